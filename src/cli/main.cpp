@@ -1,0 +1,107 @@
+// talus: run | check | --version. A thin shell over the library; every error is one clear line.
+#include "talus/case/geometry.hpp"
+#include "talus/case/parse.hpp"
+#include "talus/output/files.hpp"
+#include "talus/run.hpp"
+#include "talus/version.hpp"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <csignal>
+#include <fmt/format.h>
+#include <iostream>
+
+namespace {
+
+// Bytes per particle and per grid node of the solver's arrays (see particles.hpp, nodes.hpp).
+constexpr double particle_bytes(int dim) { return dim == 2 ? 180.0 : 300.0; }
+constexpr double node_bytes(int dim) { return dim == 2 ? 90.0 : 130.0; }
+
+int check(const talus::Case& c) {
+  const int dim = c.simulation.dimension;
+  std::size_t total = 0;
+  double max_wave = 0.0;
+  fmt::print("case {}: {}\n", c.file, c.title);
+  for (std::size_t b = 0; b < c.bodies.size(); ++b) {
+    const std::size_t n = talus::count_particles(c, b);
+    total += n;
+    const auto& mat = c.materials[c.bodies[b].material];
+    max_wave = std::max(max_wave, std::sqrt(mat.p_wave_modulus() / mat.density()));
+    fmt::print("  body {:<16} {:>10} particles  material {}\n", c.bodies[b].name, n, mat.name);
+  }
+  double nodes = 1.0;
+  for (int d = 0; d < dim; ++d) nodes *= std::ceil(c.grid.extent[d] / c.grid.cell_size - 1e-9) + 1.0;
+  const double dt = c.simulation.dt ? *c.simulation.dt
+                                    : std::min(c.simulation.dt_max, c.simulation.cfl * c.grid.cell_size / max_wave);
+  const double steps = std::ceil(c.simulation.end_time / dt);
+  const double memory = total * particle_bytes(dim) + nodes * node_bytes(dim);
+  constexpr double assumed_rate = 5e6; // particle-updates per second, 2 threads (docs/performance.md)
+  fmt::print("  {} particles, {:.0f} grid nodes ({}D, cell {} m)\n", total, nodes, dim, c.grid.cell_size);
+  fmt::print("  time step {:.3g} s ({}), about {:.0f} steps to {} s\n", dt,
+             c.simulation.dt ? "fixed" : "CFL at rest", steps, c.simulation.end_time);
+  fmt::print("  memory about {:.1f} MB; run time about {:.0f} s at {:.0e} particle-updates/s\n",
+             memory / 1e6, total * steps / assumed_rate, assumed_rate);
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  std::signal(SIGXFSZ, SIG_IGN); // a full file-size limit becomes a write error, not a kill
+  CLI::App app{"Talus: multi-body Material Point Method for landslides"};
+  app.set_version_flag("--version", std::string("talus ") + talus::version);
+  app.require_subcommand(1);
+
+  std::string case_file, out_dir;
+  std::vector<std::string> overrides;
+  int threads = 0;
+  long long max_steps = -1;
+  auto* run = app.add_subcommand("run", "run a case into a run folder");
+  run->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
+  run->add_option("--out,-o", out_dir, "run folder (default: runs/<case name>)");
+  run->add_option("--set", overrides, "override a key: --set grid.cell_size=4 (repeatable)");
+  run->add_option("--threads,-t", threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
+  run->add_option("--max-steps", max_steps, "stop after this many steps");
+
+  auto* chk = app.add_subcommand("check", "validate a case and estimate its size and run time");
+  chk->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
+  chk->add_option("--set", overrides, "override a key (repeatable)");
+
+  CLI11_PARSE(app, argc, argv);
+
+  talus::Case c;
+  try {
+    c = talus::parse_case_file(case_file, overrides);
+  } catch (const talus::CaseError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 2;
+  }
+  if (chk->parsed()) return check(c);
+
+  if (out_dir.empty()) {
+    const auto stem = std::filesystem::path(case_file).stem().string();
+    out_dir = "runs/" + stem;
+  }
+  talus::RunOptions opt;
+  opt.out_dir = out_dir;
+  opt.threads = threads;
+  if (max_steps >= 0) opt.max_steps = max_steps;
+  opt.log = &std::cout;
+  try {
+    const talus::RunResult r = talus::run_case(c, opt);
+    if (r.status != "completed") {
+      fmt::print(stderr, "error: run {}: {}\n", r.status, r.message);
+      return 1;
+    }
+    fmt::print("done: {} steps, {:.4g} s simulated, {:.1f} s wall, {:.3g} particle-updates/s\n",
+               r.steps, r.simulated_time, r.wall_seconds, r.particle_updates_per_second);
+  } catch (const talus::OutputError& e) {
+    fmt::print(stderr, "error: output: {}\n", e.what());
+    return 3;
+  } catch (const talus::CaseError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 2;
+  }
+  return 0;
+}

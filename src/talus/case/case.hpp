@@ -1,0 +1,96 @@
+// The case file, one-to-one: every TOML section maps onto one struct here. Units are SI, angles
+// in degrees. docs/case-file.md documents each key; parse_case() fills and validates it.
+#pragma once
+
+#include "talus/materials/material.hpp"
+#include "talus/shape.hpp"
+
+#include <array>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+using Vec3a = std::array<double, 3>;
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+enum class Scheme { usf, usl, musl };
+
+struct SimulationSettings {
+  int dimension = 2;
+  double end_time = 0.0;
+  double cfl = 0.4;                 // used when dt is not given
+  std::optional<double> dt;         // fixed time step
+  double dt_max = inf;              // cap on the CFL step
+  Vec3a gravity{0.0, 0.0, 0.0};
+  Scheme scheme = Scheme::musl;
+  double flip = 1.0;                // 1 = pure FLIP, 0 = pure PIC
+  double damping = 0.0;             // local (Cundall) damping fraction of the nodal force
+};
+
+// What a face of the domain does to the grid velocity.
+enum class FaceCondition { free, fixed, slip };
+
+struct GridSettings {
+  Vec3a origin{0.0, 0.0, 0.0};
+  Vec3a extent{0.0, 0.0, 0.0};
+  double cell_size = 0.0;
+  ShapeKind shape = ShapeKind::gimp;
+  // x_min, x_max, y_min, y_max, z_min, z_max
+  std::array<FaceCondition, 6> faces{};
+};
+
+struct Geometry {
+  enum class Kind { box, polygon, disk } kind = Kind::box;
+  Vec3a min{}, max{};                          // box (rectangle in 2D)
+  std::vector<std::array<double, 2>> vertices; // polygon (2D), counter-clockwise or not
+  std::string polygon_file;                    // where the vertices came from, if a CSV
+  Vec3a center{};                              // disk (2D) or sphere (3D)
+  double radius = 0.0;
+};
+
+struct BodySpec {
+  std::string name;
+  int material = 0;                  // index into Case::materials
+  std::vector<Geometry> geometry;    // union of shapes
+  int particles_per_cell = 2;        // per direction
+  Vec3a velocity{0.0, 0.0, 0.0};     // initial velocity
+};
+
+// A velocity condition on the grid nodes inside a box, optionally only for one body's field.
+struct BoundarySpec {
+  std::string name;
+  int body = -1;                     // -1: every body
+  Vec3a min{-inf, -inf, -inf}, max{inf, inf, inf};
+  std::array<bool, 3> fixed{false, false, false};
+  Vec3a velocity{0.0, 0.0, 0.0};
+};
+
+struct ProbeSpec {
+  std::string name;
+  int body = 0;
+  Vec3a near{};
+};
+
+struct OutputSettings {
+  double every = 0.0;                // simulated seconds between frames and CSV rows (0: end only)
+  bool particles = true;             // write particles_NNNNNN.vtu
+  std::vector<std::string> fields;   // extra VTU fields; empty: all
+};
+
+struct Case {
+  std::string title;
+  std::string file;                  // path of the case file as given
+  std::string text;                  // the case as run (overrides applied), TOML
+  SimulationSettings simulation;
+  GridSettings grid;
+  std::vector<Material> materials;
+  std::vector<BodySpec> bodies;
+  std::vector<BoundarySpec> boundaries;
+  std::vector<ProbeSpec> probes;
+  OutputSettings output;
+};
+
+} // namespace talus

@@ -1,0 +1,25 @@
+// Filling a case's geometry with particles: n particles per cell per direction at the centres of
+// the sub-cells whose centre lies inside the shape.
+#pragma once
+
+#include "talus/case/case.hpp"
+#include "talus/particles.hpp"
+
+#include <array>
+#include <vector>
+
+namespace talus {
+
+bool point_in_polygon(const std::vector<std::array<double, 2>>& poly, double x, double y);
+
+template <int D>
+bool inside(const Geometry& g, const Vec<D>& x);
+
+// Particles of every body, grouped by body in case order. Throws CaseError for an empty body.
+template <int D>
+Particles<D> fill_particles(const Case& c);
+
+// Particle count without allocating (for `talus check` and memory estimates).
+std::size_t count_particles(const Case& c, std::size_t body);
+
+} // namespace talus

@@ -1,0 +1,569 @@
+#include "talus/case/parse.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace talus {
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+namespace {
+
+std::string suggest(const std::string& word, const std::vector<std::string>& choices) {
+  std::string best;
+  std::size_t best_d = std::max<std::size_t>(3, word.size() / 2) + 1;
+  for (const auto& c : choices) {
+    const std::size_t d = edit_distance(word, c);
+    if (d < best_d) best_d = d, best = c;
+  }
+  return best.empty() ? std::string{} : fmt::format(" (did you mean '{}'?)", best);
+}
+
+// Where an error points: the file and the line of a node (0 when it came from --set).
+struct Where {
+  std::string file;
+  [[noreturn]] void fail(const toml::source_region& src, const std::string& key,
+                         const std::string& msg) const {
+    const auto line = src.begin.line;
+    if (line == 0) throw CaseError(fmt::format("{}: (from --set) {}: {}", file, key, msg));
+    throw CaseError(fmt::format("{}:{}: {}: {}", file, line, key, msg));
+  }
+};
+
+// Reads one TOML table, remembering which keys were used so the leftovers are reported as
+// unknown with the nearest valid key.
+class TableReader {
+public:
+  TableReader(const toml::table& t, std::string path, const Where& where)
+      : t_(t), path_(std::move(path)), where_(where) {}
+
+  std::string key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  const toml::node* find(const std::string& key) {
+    known_.insert(key);
+    return t_.get(key);
+  }
+  bool has(const std::string& key) {
+    known_.insert(key);
+    return t_.contains(key);
+  }
+  [[noreturn]] void fail(const std::string& key, const std::string& msg) const {
+    const toml::node* n = t_.get(key);
+    where_.fail(n ? n->source() : t_.source(), key_path(key), msg);
+  }
+  // A missing key, pointing at a present key that looks like a misspelling of it.
+  [[noreturn]] void fail_missing(const std::string& key) const {
+    for (auto&& [k, v] : t_) {
+      const std::string name(k.str());
+      if (!known_.count(name) && edit_distance(name, key) <= std::max<std::size_t>(2, key.size() / 3))
+        where_.fail(t_.source(), key_path(key),
+                    fmt::format("required key is missing (line {} has '{}')", v.source().begin.line, name));
+    }
+    where_.fail(t_.source(), key_path(key), "required key is missing");
+  }
+
+  double number(const std::string& key) {
+    const toml::node* n = find(key);
+    if (!n) fail_missing(key);
+    return as_number(*n, key);
+  }
+  double number(const std::string& key, double fallback) { return has(key) ? number(key) : fallback; }
+  std::optional<double> optional_number(const std::string& key) {
+    if (!has(key)) return std::nullopt;
+    return number(key);
+  }
+  long long integer(const std::string& key, long long fallback) {
+    const toml::node* n = find(key);
+    if (!n) return fallback;
+    if (!n->is_integer()) fail(key, fmt::format("expected an integer, got {}", type_name(*n)));
+    return n->value<long long>().value();
+  }
+  bool boolean(const std::string& key, bool fallback) {
+    const toml::node* n = find(key);
+    if (!n) return fallback;
+    if (!n->is_boolean()) fail(key, fmt::format("expected true or false, got {}", type_name(*n)));
+    return n->value<bool>().value();
+  }
+  std::string string(const std::string& key) {
+    const toml::node* n = find(key);
+    if (!n) fail_missing(key);
+    if (!n->is_string()) fail(key, fmt::format("expected a string, got {}", type_name(*n)));
+    return n->value<std::string>().value();
+  }
+  std::string string(const std::string& key, const std::string& fallback) {
+    return has(key) ? string(key) : fallback;
+  }
+  // A string that must be one of `choices`.
+  std::string choice(const std::string& key, const std::vector<std::string>& choices,
+                     const std::string& fallback) {
+    const std::string s = string(key, fallback);
+    if (std::find(choices.begin(), choices.end(), s) == choices.end()) {
+      std::string list;
+      for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+      fail(key, fmt::format("'{}' is not one of: {}{}", s, list, suggest(s, choices)));
+    }
+    return s;
+  }
+  // A vector of exactly n numbers (n = the case's dimension).
+  Vec3a vector(const std::string& key, int n) {
+    const toml::node* node = find(key);
+    if (!node) fail_missing(key);
+    return as_vector(*node, key, n);
+  }
+  Vec3a vector(const std::string& key, int n, const Vec3a& fallback) {
+    return has(key) ? vector(key, n) : fallback;
+  }
+  const toml::table* table(const std::string& key) {
+    const toml::node* n = find(key);
+    if (!n) return nullptr;
+    if (!n->is_table()) fail(key, fmt::format("expected a table, got {}", type_name(*n)));
+    return n->as_table();
+  }
+  const toml::array* array(const std::string& key) {
+    const toml::node* n = find(key);
+    if (!n) return nullptr;
+    if (!n->is_array()) fail(key, fmt::format("expected an array, got {}", type_name(*n)));
+    return n->as_array();
+  }
+
+  // Reports the first key that no one asked for.
+  void finish() const {
+    std::vector<std::string> known(known_.begin(), known_.end());
+    for (auto&& [k, v] : t_) {
+      const std::string name(k.str());
+      if (!known_.count(name))
+        where_.fail(k.source().begin.line ? k.source() : v.source(), key_path(name),
+                    "unknown key" + suggest(name, known));
+    }
+  }
+
+  double as_number(const toml::node& n, const std::string& key) const {
+    if (n.is_floating_point()) {
+      const double v = n.value<double>().value();
+      if (!std::isfinite(v)) where_.fail(n.source(), key_path(key), "must be a finite number");
+      return v;
+    }
+    if (n.is_integer()) return static_cast<double>(n.value<long long>().value());
+    where_.fail(n.source(), key_path(key), fmt::format("expected a number, got {}", type_name(n)));
+  }
+  Vec3a as_vector(const toml::node& node, const std::string& key, int n) const {
+    const toml::array* a = node.as_array();
+    if (!a || static_cast<int>(a->size()) != n)
+      where_.fail(node.source(), key_path(key),
+                  fmt::format("expected an array of {} numbers (one per dimension)", n));
+    Vec3a v{0.0, 0.0, 0.0};
+    for (int i = 0; i < n; ++i) v[i] = as_number(*a->get(i), fmt::format("{}[{}]", key, i));
+    return v;
+  }
+  static std::string type_name(const toml::node& n) {
+    switch (n.type()) {
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a number";
+    case toml::node_type::boolean: return "a boolean";
+    default: return "a date or time";
+    }
+  }
+  const Where& where() const { return where_; }
+  const toml::table& raw() const { return t_; }
+
+private:
+  const toml::table& t_;
+  std::string path_;
+  const Where& where_;
+  std::set<std::string> known_;
+};
+
+// Each [[section]] entry as a reader with path "section[i]".
+template <class F>
+void for_each_entry(TableReader& root, const std::string& key, F&& f) {
+  const toml::array* arr = root.array(key);
+  if (!arr) return;
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const toml::node* n = arr->get(i);
+    if (!n->is_table())
+      root.where().fail(n->source(), fmt::format("{}[{}]", key, i),
+                        fmt::format("expected a table: write [[{}]] sections", key));
+    TableReader r(*n->as_table(), fmt::format("{}[{}]", key, i), root.where());
+    f(r, i);
+    r.finish();
+  }
+}
+
+void require(TableReader& r, const std::string& key, bool ok, const std::string& msg) {
+  if (!ok) r.fail(key, msg);
+}
+
+SimulationSettings read_simulation(TableReader& r) {
+  SimulationSettings s;
+  s.dimension = static_cast<int>(r.integer("dimension", 2));
+  require(r, "dimension", s.dimension == 2 || s.dimension == 3, "must be 2 (plane strain) or 3");
+  s.end_time = r.number("end_time");
+  require(r, "end_time", s.end_time > 0.0, "must be > 0 s");
+  s.cfl = r.number("cfl", 0.4);
+  require(r, "cfl", s.cfl > 0.0 && s.cfl <= 1.0, "must be in (0, 1]");
+  s.dt = r.optional_number("dt");
+  if (s.dt) require(r, "dt", *s.dt > 0.0, "must be > 0 s");
+  s.dt_max = r.number("dt_max", inf);
+  require(r, "dt_max", s.dt_max > 0.0, "must be > 0 s");
+  s.gravity = r.vector("gravity", s.dimension, Vec3a{0.0, 0.0, 0.0});
+  const std::string scheme = r.choice("scheme", {"usf", "usl", "musl"}, "musl");
+  s.scheme = scheme == "usf" ? Scheme::usf : scheme == "usl" ? Scheme::usl : Scheme::musl;
+  s.flip = r.number("flip", 1.0);
+  require(r, "flip", s.flip >= 0.0 && s.flip <= 1.0, "must be in [0, 1] (1 = FLIP, 0 = PIC)");
+  s.damping = r.number("damping", 0.0);
+  require(r, "damping", s.damping >= 0.0 && s.damping < 1.0, "must be in [0, 1)");
+  return s;
+}
+
+GridSettings read_grid(TableReader& r, int dim) {
+  GridSettings g;
+  g.origin = r.vector("origin", dim, Vec3a{0.0, 0.0, 0.0});
+  g.extent = r.vector("extent", dim);
+  for (int d = 0; d < dim; ++d) require(r, "extent", g.extent[d] > 0.0, "every extent must be > 0 m");
+  g.cell_size = r.number("cell_size");
+  require(r, "cell_size", g.cell_size > 0.0, "must be > 0 m");
+  for (int d = 0; d < dim; ++d) {
+    const double n = g.extent[d] / g.cell_size;
+    require(r, "cell_size", n >= 2.0, "the grid needs at least 2 cells per direction");
+    require(r, "cell_size", n <= 1e7, "more than 1e7 cells per direction");
+  }
+  g.shape = r.choice("shape_function", {"linear", "gimp"}, "gimp") == "linear" ? ShapeKind::linear
+                                                                               : ShapeKind::gimp;
+  g.faces.fill(FaceCondition::free);
+  if (const toml::table* t = r.table("boundary")) {
+    TableReader b(*t, r.key_path("boundary"), r.where());
+    const char* names[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+    for (int f = 0; f < 2 * dim; ++f) {
+      const std::string c = b.choice(names[f], {"free", "fixed", "slip"}, "free");
+      g.faces[f] = c == "fixed" ? FaceCondition::fixed
+                   : c == "slip" ? FaceCondition::slip
+                                 : FaceCondition::free;
+    }
+    b.finish();
+  }
+  return g;
+}
+
+Material read_material(TableReader& r) {
+  Material m;
+  m.name = r.string("name");
+  const std::string model = r.choice("model", {"linear_elastic"}, "linear_elastic");
+  LinearElastic e;
+  e.density = r.number("density");
+  require(r, "density", e.density > 0.0, "must be > 0 kg/m^3");
+  e.youngs_modulus = r.number("youngs_modulus");
+  require(r, "youngs_modulus", e.youngs_modulus > 0.0, "must be > 0 Pa");
+  e.poisson_ratio = r.number("poisson_ratio");
+  require(r, "poisson_ratio", e.poisson_ratio >= 0.0 && e.poisson_ratio < 0.5,
+          "must be in [0, 0.5)");
+  m.model = e;
+  return m;
+}
+
+// Which of a list of named things a key refers to.
+int lookup(TableReader& r, const std::string& key, const std::vector<std::string>& names,
+           const std::string& what) {
+  const std::string s = r.string(key);
+  const auto it = std::find(names.begin(), names.end(), s);
+  if (it == names.end()) r.fail(key, fmt::format("no {} is named '{}'{}", what, s, suggest(s, names)));
+  return static_cast<int>(it - names.begin());
+}
+
+Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& base_dir) {
+  const std::vector<std::string> kinds = {"box", "polygon", "disk", "sphere"};
+  std::vector<std::string> present;
+  for (const auto& k : kinds)
+    if (r.has(k)) present.push_back(k);
+  if (present.size() != 1)
+    r.fail(present.empty() ? "box" : present[1],
+           "a body needs exactly one geometry: box, polygon (2D), disk (2D) or sphere (3D)");
+  Geometry g;
+  const std::string kind = present[0];
+  if (kind == "box") {
+    g.kind = Geometry::Kind::box;
+    const toml::table* t = r.table("box");
+    if (!t) r.fail("box", "expected a table { min = [...], max = [...] }");
+    TableReader b(*t, r.key_path("box"), r.where());
+    g.min = b.vector("min", dim);
+    g.max = b.vector("max", dim);
+    for (int d = 0; d < dim; ++d) require(b, "max", g.max[d] > g.min[d], "max must exceed min in every direction");
+    b.finish();
+  } else if (kind == "polygon") {
+    if (dim != 2) r.fail("polygon", "polygons are 2D; use box or sphere in 3D");
+    g.kind = Geometry::Kind::polygon;
+    const toml::node* n = r.find("polygon");
+    if (n->is_string()) {
+      const std::filesystem::path p = base_dir / n->value<std::string>().value();
+      g.polygon_file = p.string();
+      try {
+        g.vertices = read_polygon_csv(g.polygon_file);
+      } catch (const CaseError& e) {
+        r.fail("polygon", e.what());
+      }
+    } else if (const toml::array* a = n->as_array()) {
+      for (std::size_t i = 0; i < a->size(); ++i) {
+        const Vec3a v = r.as_vector(*a->get(i), fmt::format("polygon[{}]", i), 2);
+        g.vertices.push_back({v[0], v[1]});
+      }
+    } else {
+      r.fail("polygon", "expected a CSV file name or an array of [x, y] vertices");
+    }
+    if (g.vertices.size() < 3) r.fail("polygon", "a polygon needs at least 3 vertices");
+    double area = 0.0;
+    for (std::size_t i = 0; i < g.vertices.size(); ++i) {
+      const auto& a = g.vertices[i];
+      const auto& b = g.vertices[(i + 1) % g.vertices.size()];
+      area += a[0] * b[1] - b[0] * a[1];
+    }
+    if (std::abs(area) < 1e-12) r.fail("polygon", "the polygon has zero area");
+  } else {
+    if ((kind == "disk") != (dim == 2)) r.fail(kind, "use disk in 2D and sphere in 3D");
+    g.kind = Geometry::Kind::disk;
+    const toml::table* t = r.table(kind);
+    if (!t) r.fail(kind, "expected a table { center = [...], radius = r }");
+    TableReader b(*t, r.key_path(kind), r.where());
+    g.center = b.vector("center", dim);
+    g.radius = b.number("radius");
+    require(b, "radius", g.radius > 0.0, "must be > 0 m");
+    b.finish();
+  }
+  return g;
+}
+
+// Bounding box of a geometry (first dim components meaningful).
+void bounds(const Geometry& g, int dim, Vec3a& lo, Vec3a& hi) {
+  switch (g.kind) {
+  case Geometry::Kind::box: lo = g.min, hi = g.max; break;
+  case Geometry::Kind::disk:
+    for (int d = 0; d < dim; ++d) lo[d] = g.center[d] - g.radius, hi[d] = g.center[d] + g.radius;
+    break;
+  case Geometry::Kind::polygon:
+    lo = {inf, inf, 0.0}, hi = {-inf, -inf, 0.0};
+    for (const auto& v : g.vertices)
+      for (int d = 0; d < 2; ++d) lo[d] = std::min(lo[d], v[d]), hi[d] = std::max(hi[d], v[d]);
+    break;
+  }
+}
+
+// Applies "a.b.c=value" to the document. Segments index arrays by number or by an entry's name.
+void apply_override(toml::table& doc, const std::string& spec, const std::string& file) {
+  const auto eq = spec.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw CaseError(fmt::format("{}: --set '{}': expected key.path=value", file, spec));
+  const std::string path = spec.substr(0, eq);
+  const std::string text = spec.substr(eq + 1);
+  std::vector<std::string> keys;
+  std::stringstream ss(path);
+  for (std::string k; std::getline(ss, k, '.');) keys.push_back(k);
+  toml::node* node = &doc;
+  std::string walked;
+  for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
+    walked += (walked.empty() ? "" : ".") + keys[i];
+    toml::node* next = nullptr;
+    if (auto* t = node->as_table()) {
+      next = t->get(keys[i]);
+      if (!next) next = &t->insert_or_assign(keys[i], toml::table{}).first->second;
+    } else if (auto* a = node->as_array()) {
+      for (std::size_t j = 0; j < a->size() && !next; ++j) {
+        auto* e = a->get(j)->as_table();
+        if (std::to_string(j) == keys[i] || (e && e->get("name") && e->get("name")->value<std::string>() == keys[i]))
+          next = a->get(j);
+      }
+    }
+    if (!next) throw CaseError(fmt::format("{}: --set {}: no entry '{}'", file, path, walked));
+    node = next;
+  }
+  auto* t = node->as_table();
+  if (!t) throw CaseError(fmt::format("{}: --set {}: '{}' is not a table", file, path, walked));
+  toml::node_view<toml::node> value;
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + text);
+  } catch (const toml::parse_error&) {
+    parsed.insert_or_assign("v", text); // a bare word is a string
+  }
+  t->insert_or_assign(keys.back(), *parsed.get("v"));
+}
+
+} // namespace
+
+std::vector<std::array<double, 2>> read_polygon_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw CaseError(fmt::format("{}: cannot open the polygon file", path));
+  std::vector<std::array<double, 2>> v;
+  std::string line;
+  for (int lineno = 1; std::getline(in, line); ++lineno) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos || line[0] == '#') continue;
+    std::array<double, 2> p{};
+    char* end = nullptr;
+    const char* s = line.c_str();
+    p[0] = std::strtod(s, &end);
+    const bool first_ok = end != s;
+    bool ok = first_ok && *end == ',';
+    if (ok) {
+      const char* s2 = end + 1;
+      p[1] = std::strtod(s2, &end);
+      ok = end != s2 && line.find_first_not_of(" \t", end - s) == std::string::npos;
+    }
+    if (!ok) {
+      if (v.empty() && !first_ok) continue; // header line such as "x,z"
+      throw CaseError(fmt::format("{}:{}: expected two numbers 'x,y', got '{}'", path, lineno, line));
+    }
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
+      throw CaseError(fmt::format("{}:{}: coordinates must be finite", path, lineno));
+    v.push_back(p);
+  }
+  if (v.size() > 1 && v.front() == v.back()) v.pop_back(); // closed ring
+  return v;
+}
+
+Case parse_case_text(const std::string& text, const std::string& path,
+                     const std::vector<std::string>& overrides) {
+  toml::table doc;
+  try {
+    doc = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw CaseError(fmt::format("{}:{}: {}", path, e.source().begin.line, e.description()));
+  }
+  for (const auto& o : overrides) apply_override(doc, o, path);
+
+  Where where{path};
+  const std::filesystem::path base_dir = std::filesystem::path(path).parent_path();
+  TableReader root(doc, "", where);
+  Case c;
+  c.file = path;
+  std::ostringstream as_run;
+  as_run << doc << "\n";
+  c.text = as_run.str();
+  c.title = root.string("title", "");
+
+  const toml::table* sim = root.table("simulation");
+  if (!sim) root.fail_missing("simulation");
+  TableReader rs(*sim, "simulation", where);
+  c.simulation = read_simulation(rs);
+  rs.finish();
+  const int dim = c.simulation.dimension;
+
+  const toml::table* grid = root.table("grid");
+  if (!grid) root.fail_missing("grid");
+  TableReader rg(*grid, "grid", where);
+  c.grid = read_grid(rg, dim);
+  rg.finish();
+
+  std::vector<std::string> material_names;
+  for_each_entry(root, "material", [&](TableReader& r, std::size_t) {
+    c.materials.push_back(read_material(r));
+    if (std::count(material_names.begin(), material_names.end(), c.materials.back().name))
+      r.fail("name", "two materials have this name");
+    material_names.push_back(c.materials.back().name);
+  });
+  if (c.materials.empty()) root.fail_missing("material");
+
+  std::vector<std::string> body_names;
+  for_each_entry(root, "body", [&](TableReader& r, std::size_t) {
+    BodySpec b;
+    b.name = r.string("name");
+    if (std::count(body_names.begin(), body_names.end(), b.name)) r.fail("name", "two bodies have this name");
+    b.material = lookup(r, "material", material_names, "material");
+    b.geometry.push_back(read_geometry(r, dim, base_dir));
+    b.particles_per_cell = static_cast<int>(r.integer("particles_per_cell", 2));
+    require(r, "particles_per_cell", b.particles_per_cell >= 1 && b.particles_per_cell <= 8,
+            "must be 1 to 8 (per direction)");
+    b.velocity = r.vector("velocity", dim, Vec3a{0.0, 0.0, 0.0});
+    Vec3a lo{}, hi{};
+    bounds(b.geometry[0], dim, lo, hi);
+    for (int d = 0; d < dim; ++d) {
+      const double g0 = c.grid.origin[d], g1 = g0 + c.grid.extent[d];
+      if (lo[d] < g0 || hi[d] > g1)
+        r.fail(b.geometry[0].kind == Geometry::Kind::polygon ? "polygon"
+               : b.geometry[0].kind == Geometry::Kind::box  ? "box"
+                                                            : (dim == 2 ? "disk" : "sphere"),
+               fmt::format("the body reaches outside the grid along {} ([{}, {}] is not inside "
+                           "[{}, {}])",
+                           "xyz"[d], lo[d], hi[d], g0, g1));
+    }
+    c.bodies.push_back(std::move(b));
+    body_names.push_back(c.bodies.back().name);
+  });
+  if (c.bodies.empty()) root.fail_missing("body");
+
+  for_each_entry(root, "boundary", [&](TableReader& r, std::size_t i) {
+    BoundarySpec b;
+    b.name = r.string("name", fmt::format("boundary{}", i));
+    if (r.has("body")) b.body = lookup(r, "body", body_names, "body");
+    b.min = r.vector("min", dim, Vec3a{-inf, -inf, -inf});
+    b.max = r.vector("max", dim, Vec3a{inf, inf, inf});
+    const char* comps[3] = {"velocity_x", "velocity_y", "velocity_z"};
+    for (int d = 0; d < dim; ++d)
+      if (r.has(comps[d])) b.fixed[d] = true, b.velocity[d] = r.number(comps[d]);
+    if (r.has("velocity")) {
+      b.velocity = r.vector("velocity", dim);
+      for (int d = 0; d < dim; ++d) b.fixed[d] = true;
+    }
+    if (!b.fixed[0] && !b.fixed[1] && !b.fixed[2])
+      r.fail("velocity", "a boundary must set velocity or at least one of velocity_x/_y/_z");
+    c.boundaries.push_back(b);
+  });
+
+  for_each_entry(root, "probe", [&](TableReader& r, std::size_t i) {
+    ProbeSpec p;
+    p.name = r.string("name", fmt::format("probe{}", i));
+    p.body = lookup(r, "body", body_names, "body");
+    p.near = r.vector("near", dim);
+    c.probes.push_back(p);
+  });
+
+  if (const toml::table* out = root.table("output")) {
+    TableReader ro(*out, "output", where);
+    c.output.every = ro.number("every", 0.0);
+    require(ro, "every", c.output.every >= 0.0, "must be >= 0 s");
+    c.output.particles = ro.boolean("particles", true);
+    if (const toml::array* f = ro.array("fields")) {
+      const std::vector<std::string> known = {"velocity", "stress", "displacement", "mass",
+                                              "volume", "plastic_strain", "body", "material"};
+      for (std::size_t i = 0; i < f->size(); ++i) {
+        const auto s = f->get(i)->value<std::string>();
+        if (!s || std::find(known.begin(), known.end(), *s) == known.end())
+          ro.where().fail(f->get(i)->source(), fmt::format("output.fields[{}]", i),
+                          fmt::format("unknown field '{}'{}", s.value_or("?"), suggest(s.value_or(""), known)));
+        c.output.fields.push_back(*s);
+      }
+    }
+    ro.finish();
+  }
+  root.finish();
+  return c;
+}
+
+Case parse_case_file(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CaseError(fmt::format("{}: cannot open the case file", path));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_case_text(ss.str(), path, overrides);
+}
+
+} // namespace talus

@@ -1,0 +1,31 @@
+// Reading a case file: TOML -> Case, with every error naming the file, the key path and the line.
+#pragma once
+
+#include "talus/case/case.hpp"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+// A case-file error. what() reads "FILE:LINE: KEY: message" and suggests the nearest key.
+class CaseError : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
+
+// Parses the case at path, applying "key.path=value" overrides first (--set). Throws CaseError.
+Case parse_case_file(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// Parses case text as if read from `path` (relative files resolve beside it). Throws CaseError.
+Case parse_case_text(const std::string& text, const std::string& path,
+                     const std::vector<std::string>& overrides = {});
+
+// Reads a polygon CSV (columns x,y or x,z; an optional header line). Throws CaseError.
+std::vector<std::array<double, 2>> read_polygon_csv(const std::string& path);
+
+// Levenshtein distance, for "did you mean" suggestions.
+std::size_t edit_distance(const std::string& a, const std::string& b);
+
+} // namespace talus

@@ -1,0 +1,26 @@
+// The set of material models. A body holds one Material; the solver visits it once per body per
+// step and runs a loop specialised for that model, so no particle ever pays for a virtual call.
+#pragma once
+
+#include "talus/materials/linear_elastic.hpp"
+
+#include <string>
+#include <variant>
+
+namespace talus {
+
+using MaterialModel = std::variant<LinearElastic>;
+
+struct Material {
+  std::string name;
+  MaterialModel model;
+
+  double density() const {
+    return std::visit([](const auto& m) { return m.density; }, model);
+  }
+  double p_wave_modulus() const {
+    return std::visit([](const auto& m) { return m.p_wave_modulus(); }, model);
+  }
+};
+
+} // namespace talus

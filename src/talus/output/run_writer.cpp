@@ -1,0 +1,128 @@
+#include "talus/output/run_writer.hpp"
+
+#include "talus/output/files.hpp"
+#include "talus/output/vtu.hpp"
+#include "talus/version.hpp"
+
+#include <filesystem>
+#include <fmt/format.h>
+
+namespace talus {
+
+namespace {
+
+template <int D>
+std::string components(const char* prefix, const char* suffix = "") {
+  std::string s;
+  for (int d = 0; d < D; ++d) s += fmt::format(",{}{}{}", prefix, "xyz"[d], suffix);
+  return s;
+}
+
+template <int D>
+std::string join(const Vec<D>& v) {
+  std::string s;
+  for (int d = 0; d < D; ++d) s += fmt::format(",{:.10g}", v[d]);
+  return s;
+}
+
+} // namespace
+
+template <int D>
+RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::move(dir)) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw OutputError(fmt::format("{}: cannot create the run folder: {}", dir_, ec.message()));
+  write_file_atomic(dir_ + "/case.toml", sim.case_().text);
+  const Case& c = sim.case_();
+  for (const ProbeSpec& pr : c.probes) {
+    Vec<D> near;
+    for (int d = 0; d < D; ++d) near[d] = pr.near[d];
+    probe_ids_.push_back(sim.particles().id[sim.nearest_particle(pr.body, near)]);
+  }
+  energy_ = "time,step,dt,kinetic_energy" + components<D>("momentum_") + "\n";
+  bodies_ = "time,body,mass" + components<D>("centroid_") + components<D>("velocity_") +
+            ",mean_speed,max_speed,kinetic_energy\n";
+  probes_ = "time,probe" + components<D>("") + components<D>("velocity_") + ",speed,displacement\n";
+}
+
+template <int D>
+void RunWriter<D>::write_frame(const Simulation<D>& sim) {
+  const auto& P = sim.particles();
+  const Case& c = sim.case_();
+  const double t = sim.time();
+  double ke_total = 0.0;
+  Vec<D> mom_total = Vec<D>::Zero();
+  for (int b = 0; b < P.num_bodies(); ++b) {
+    double mass = 0.0, ke = 0.0, speed_sum = 0.0, max_speed = 0.0;
+    Vec<D> mx = Vec<D>::Zero(), mv = Vec<D>::Zero();
+    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
+      const double speed = P.v[p].norm();
+      mass += P.m[p];
+      mx += P.m[p] * P.x[p];
+      mv += P.m[p] * P.v[p];
+      ke += 0.5 * P.m[p] * speed * speed;
+      speed_sum += P.m[p] * speed;
+      max_speed = std::max(max_speed, speed);
+    }
+    ke_total += ke;
+    mom_total += mv;
+    bodies_ += fmt::format("{:.10g},{},{:.10g}{}{},{:.10g},{:.10g},{:.10g}\n", t, c.bodies[b].name,
+                           mass, join<D>(mx / mass), join<D>(mv / mass), speed_sum / mass,
+                           max_speed, ke);
+  }
+  energy_ += fmt::format("{:.10g},{},{:.10g},{:.10g}{}\n", t, sim.steps(), sim.last_dt(), ke_total,
+                         join<D>(mom_total));
+  for (std::size_t k = 0; k < probe_ids_.size(); ++k) {
+    std::size_t p = 0;
+    while (P.id[p] != probe_ids_[k]) ++p;
+    probes_ += fmt::format("{:.10g},{}{}{},{:.10g},{:.10g}\n", t, c.probes[k].name, join<D>(P.x[p]),
+                           join<D>(P.v[p]), P.v[p].norm(), (P.x[p] - P.x0[p]).norm());
+  }
+  if (c.output.particles) {
+    const std::string name = fmt::format("particles_{:06d}.vtu", frames_.size());
+    std::vector<int> mats;
+    for (const BodySpec& b : c.bodies) mats.push_back(b.material);
+    write_file_atomic(dir_ + "/" + name, particles_to_vtu<D>(P, mats, VtuFields{c.output.fields}));
+    frames_.emplace_back(t, name);
+    write_file_atomic(dir_ + "/particles.pvd", pvd_collection(frames_));
+  }
+  write_file_atomic(dir_ + "/energy.csv", energy_);
+  write_file_atomic(dir_ + "/bodies.csv", bodies_);
+  if (!probe_ids_.empty()) write_file_atomic(dir_ + "/probes.csv", probes_);
+}
+
+template <int D>
+void RunWriter<D>::write_summary(const Simulation<D>& sim, const std::string& status,
+                                 double wall_seconds, double stepping_seconds, int threads,
+                                 const std::string& message, const nlohmann::json& results) {
+  const Case& c = sim.case_();
+  const auto& P = sim.particles();
+  nlohmann::json j;
+  j["talus_version"] = version;
+  j["case"] = c.file;
+  j["title"] = c.title;
+  j["dimension"] = D;
+  j["particles"] = P.size();
+  j["nodes"] = sim.grid().num_nodes();
+  nlohmann::json bodies = nlohmann::json::object();
+  for (int b = 0; b < P.num_bodies(); ++b)
+    bodies[c.bodies[b].name] = {{"particles", P.body_begin[b + 1] - P.body_begin[b]},
+                                {"material", c.materials[c.bodies[b].material].name}};
+  j["bodies"] = bodies;
+  j["steps"] = sim.steps();
+  j["simulated_time"] = sim.time();
+  j["wall_seconds"] = wall_seconds;
+  j["stepping_seconds"] = stepping_seconds;
+  j["particle_updates_per_second"] =
+      stepping_seconds > 0 ? static_cast<double>(P.size()) * static_cast<double>(sim.steps()) / stepping_seconds : 0.0;
+  j["threads"] = threads;
+  j["status"] = status;
+  if (!message.empty()) j["message"] = message;
+  j["results"] = results;
+  write_file_atomic(dir_ + "/summary.json", j.dump(2) + "\n");
+}
+
+template class RunWriter<2>;
+template class RunWriter<3>;
+
+} // namespace talus

@@ -1,0 +1,34 @@
+// The run folder: case.toml, summary.json, energy.csv, bodies.csv, probes.csv and the ParaView
+// series. Every file is rewritten atomically, so a reader (or a crash) never sees half a file.
+#pragma once
+
+#include "talus/solver.hpp"
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+template <int D>
+class RunWriter {
+public:
+  RunWriter(std::string dir, const Simulation<D>& sim);
+
+  // Appends a row to the CSVs and, if enabled, writes particles_NNNNNN.vtu and particles.pvd.
+  void write_frame(const Simulation<D>& sim);
+  // summary.json with the run's status ("completed", "failed", "interrupted").
+  void write_summary(const Simulation<D>& sim, const std::string& status, double wall_seconds,
+                     double stepping_seconds, int threads, const std::string& message,
+                     const nlohmann::json& results = nlohmann::json::object());
+
+  const std::string& dir() const { return dir_; }
+
+private:
+  std::string dir_;
+  std::vector<std::uint32_t> probe_ids_;
+  std::string energy_, bodies_, probes_;
+  std::vector<std::pair<double, std::string>> frames_;
+};
+
+} // namespace talus

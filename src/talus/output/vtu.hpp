@@ -1,0 +1,28 @@
+// ParaView output: particles as VTK XML UnstructuredGrid (.vtu, binary base64 data) and the
+// time series that lists them (.pvd). The writer reads the state; the solver knows no format.
+#pragma once
+
+#include "talus/particles.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace talus {
+
+// The particle fields a frame carries (positions and body id always).
+struct VtuFields {
+  std::vector<std::string> names; // empty: all
+  bool wants(const std::string& f) const;
+};
+
+template <int D>
+std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body_material,
+                             const VtuFields& fields);
+
+// A .pvd collection of (time, file name) frames.
+std::string pvd_collection(const std::vector<std::pair<double, std::string>>& frames);
+
+std::string base64(const void* data, std::size_t bytes);
+
+} // namespace talus

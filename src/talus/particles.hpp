@@ -1,0 +1,55 @@
+// Particles<D>: plain structure-of-arrays state, stored contiguously by body: body b owns the
+// index range [body_begin[b], body_begin[b+1]). Every per-particle array is listed in
+// for_each_array, so sorting, checkpoints and future MPI migration see all state (no hidden state).
+#pragma once
+
+#include "talus/math.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace talus {
+
+template <int D>
+struct Particles {
+  std::vector<Vec<D>> x;          // position
+  std::vector<Vec<D>> x0;         // initial position (for displacement)
+  std::vector<Vec<D>> v;          // velocity
+  std::vector<double> m;          // mass
+  std::vector<double> vol0;       // initial volume (per unit thickness in 2D)
+  std::vector<double> vol;        // current volume = vol0 det F
+  std::vector<Voigt> stress;      // Cauchy stress, tension positive
+  std::vector<Mat<D>> F;          // deformation gradient
+  std::vector<double> eps_p;      // equivalent plastic strain (0 for elastic materials)
+  std::vector<std::uint32_t> id;  // stable particle id (index at creation), survives sorting
+
+  std::vector<std::size_t> body_begin{0}; // size = bodies + 1
+
+  std::size_t size() const { return x.size(); }
+  int num_bodies() const { return static_cast<int>(body_begin.size()) - 1; }
+  int body_of(std::size_t p) const {
+    int b = 0;
+    while (p >= body_begin[b + 1]) ++b;
+    return b;
+  }
+
+  template <class Fn>
+  void for_each_array(Fn&& f) {
+    f(x), f(x0), f(v), f(m), f(vol0), f(vol), f(stress), f(F), f(eps_p), f(id);
+  }
+
+  void push_back(const Vec<D>& pos, const Vec<D>& vel, double mass, double volume) {
+    x.push_back(pos);
+    x0.push_back(pos);
+    v.push_back(vel);
+    m.push_back(mass);
+    vol0.push_back(volume);
+    vol.push_back(volume);
+    stress.push_back(Voigt::Zero());
+    F.push_back(Mat<D>::Identity());
+    eps_p.push_back(0.0);
+    id.push_back(static_cast<std::uint32_t>(id.size()));
+  }
+};
+
+} // namespace talus

@@ -1,0 +1,37 @@
+// Running a case: the time loop, output at its interval, progress, and the summary.
+#pragma once
+
+#include "talus/case/case.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace talus {
+
+struct RunOptions {
+  std::string out_dir;
+  int threads = 0;                          // 0: OpenMP's default
+  std::optional<std::int64_t> max_steps;    // stop early (tests, benchmarks)
+  std::ostream* log = nullptr;              // progress and messages; null: silent
+};
+
+struct RunResult {
+  std::string status;                       // completed, failed
+  std::string message;                      // why it failed
+  std::int64_t steps = 0;
+  double simulated_time = 0.0;
+  double wall_seconds = 0.0;
+  double particle_updates_per_second = 0.0;
+  std::size_t particles = 0;
+};
+
+// Runs the case into opt.out_dir. Errors in the physics end the run with status "failed" and a
+// summary naming the step, time and particle; output errors throw OutputError.
+RunResult run_case(const Case& c, const RunOptions& opt);
+
+// Sets the number of OpenMP threads (0 leaves the default) and returns the number in use.
+int set_threads(int threads);
+
+} // namespace talus

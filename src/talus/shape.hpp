@@ -1,0 +1,107 @@
+// Shape functions as kernels: linear (tent) and uniform GIMP. Both are tensor products of 1D
+// weights, evaluated once per particle into a ShapeWeights record that the scatter (P2G) and the
+// gather (G2P) both walk, so the two transfers can never disagree.
+#pragma once
+
+#include "talus/grid.hpp"
+
+#include <cmath>
+
+namespace talus {
+
+enum class ShapeKind { linear, gimp };
+
+// Up to 3 nodes per direction (GIMP); linear uses the first 2.
+template <int D>
+struct ShapeWeights {
+  static constexpr int max_k = 3;
+  Index<D> base{};          // lowest node in the support, per direction
+  int k = 2;                // nodes per direction
+  double w[D][max_k]{};     // 1D weights
+  double dw[D][max_k]{};    // 1D derivatives d/dx
+};
+
+// 1D uniform GIMP weight and derivative for a node at signed distance r = x_p - x_I, cell size h
+// and particle half-width lp (Bardenhagen & Kober 2004).
+inline void gimp_1d(double r, double h, double lp, double& w, double& dw) {
+  const double a = std::abs(r);
+  const double s = r < 0.0 ? -1.0 : 1.0;
+  if (a < lp) {
+    w = 1.0 - (r * r + lp * lp) / (2.0 * h * lp);
+    dw = -r / (h * lp);
+  } else if (a < h - lp) {
+    w = 1.0 - a / h;
+    dw = -s / h;
+  } else if (a < h + lp) {
+    const double t = h + lp - a;
+    w = t * t / (4.0 * h * lp);
+    dw = -s * t / (2.0 * h * lp);
+  } else {
+    w = 0.0;
+    dw = 0.0;
+  }
+}
+
+// Weights of the particle at x. lp is the GIMP half-width (ignored for linear). Nodes outside the
+// grid get zero weight (their index is clamped so the kernel loops never read out of range).
+template <int D>
+ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, double lp, const Vec<D>& x) {
+  ShapeWeights<D> sw;
+  sw.k = kind == ShapeKind::linear ? 2 : 3;
+  for (int d = 0; d < D; ++d) {
+    const double xi = (x[d] - grid.origin[d]) / grid.h;
+    const auto base = static_cast<std::int64_t>(std::floor(kind == ShapeKind::linear ? xi : xi - 0.5));
+    sw.base[d] = base;
+    for (int a = 0; a < sw.k; ++a) {
+      const std::int64_t node = base + a;
+      double w = 0.0, dw = 0.0;
+      if (kind == ShapeKind::linear) {
+        const double r = xi - static_cast<double>(node);
+        w = 1.0 - std::abs(r);
+        dw = (r < 0.0 ? 1.0 : -1.0) / grid.h;
+        if (w < 0.0) w = dw = 0.0;
+      } else {
+        gimp_1d((xi - static_cast<double>(node)) * grid.h, grid.h, lp, w, dw);
+      }
+      if (node < 0 || node >= grid.nodes[d]) w = dw = 0.0;
+      sw.w[d][a] = w;
+      sw.dw[d][a] = dw;
+    }
+  }
+  return sw;
+}
+
+// Calls f(node_index, N, grad N) for every node in the support of sw.
+template <int D, class F>
+inline void for_each_node(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& f) {
+  const int k = sw.k;
+  auto clamp = [&](int d, std::int64_t i) {
+    return i < 0 ? std::int64_t{0} : (i >= grid.nodes[d] ? grid.nodes[d] - 1 : i);
+  };
+  if constexpr (D == 2) {
+    for (int a = 0; a < k; ++a) {
+      const std::int64_t row = clamp(0, sw.base[0] + a) * grid.nodes[1];
+      for (int b = 0; b < k; ++b) {
+        const double N = sw.w[0][a] * sw.w[1][b];
+        const Vec<2> g(sw.dw[0][a] * sw.w[1][b], sw.w[0][a] * sw.dw[1][b]);
+        f(row + clamp(1, sw.base[1] + b), N, g);
+      }
+    }
+  } else {
+    for (int a = 0; a < k; ++a) {
+      for (int b = 0; b < k; ++b) {
+        const std::int64_t row = (clamp(0, sw.base[0] + a) * grid.nodes[1] +
+                                  clamp(1, sw.base[1] + b)) * grid.nodes[2];
+        const double wab = sw.w[0][a] * sw.w[1][b];
+        for (int c = 0; c < k; ++c) {
+          const double N = wab * sw.w[2][c];
+          const Vec<3> g(sw.dw[0][a] * sw.w[1][b] * sw.w[2][c], sw.w[0][a] * sw.dw[1][b] * sw.w[2][c],
+                         wab * sw.dw[2][c]);
+          f(row + clamp(2, sw.base[2] + c), N, g);
+        }
+      }
+    }
+  }
+}
+
+} // namespace talus

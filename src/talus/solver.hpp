@@ -1,0 +1,104 @@
+// Simulation<D>: the state of a run and its explicit time step (ARCHITECTURE.md, "One time step").
+#pragma once
+
+#include "talus/boundary.hpp"
+#include "talus/case/case.hpp"
+#include "talus/grid.hpp"
+#include "talus/nodes.hpp"
+#include "talus/particles.hpp"
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+// A run that went bad: names the step, time, body, particle, position and field.
+class SimulationError : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
+
+// Wall time spent in each phase of the step, for the benchmark.
+struct PhaseTimes {
+  double p2g = 0, grid = 0, g2p = 0, stress = 0, other = 0;
+};
+
+template <int D>
+class Simulation {
+public:
+  explicit Simulation(const Case& c);
+
+  // Advances one step of at most dt_limit (so output times and the end time are hit exactly).
+  void step(double dt_limit = inf);
+
+  double time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  double last_dt() const { return dt_; }
+  const Case& case_() const { return case_data_; }
+  const Grid<D>& grid() const { return grid_; }
+  const Particles<D>& particles() const { return particles_; }
+  const NodeFields<D>& nodes() const { return nodes_; }
+  const std::vector<Material>& body_materials() const { return body_material_; }
+  const PhaseTimes& phase_times() const { return phase_times_; }
+
+  // The stable time step of the current state (CFL) or the fixed one.
+  double compute_time_step() const;
+  // Index of the particle nearest `point` in body b (for probes).
+  std::size_t nearest_particle(int body, const Vec<D>& point) const;
+
+  // Initial conditions that a case file cannot express (tests set a velocity field here).
+  Particles<D>& particles_mut() { return particles_; }
+
+  // The phases of step(), public so the tests can check each transfer on its own.
+  void sort_particles_by_cell();
+  void bin_particles_by_slab();
+  void clear_nodes();
+  void map_particles_to_nodes(bool with_forces);
+  void map_forces_to_nodes();
+  void map_momentum_to_nodes();
+  void compute_node_velocities(double dt);
+  // What one G2P pass does: blend the particle velocity, move the particle, and/or update F,
+  // volume and stress from the velocity gradient of `strain_rate_field`.
+  struct Gather {
+    bool velocity = false;
+    bool move = false;
+    const std::vector<Vec<D>>* strain_rate_field = nullptr;
+  };
+  void map_nodes_to_particles(double dt, const Gather& what);
+  template <class Model>
+  void map_nodes_to_body(int body, double dt, const Gather& what, const Model* model);
+  void check_particles() const;
+
+private:
+  // Calls f(p, shape) for every particle, slab colour by slab colour, so that no two threads
+  // write one node and every node sums its particles in one fixed order (thread-count independent).
+  template <class F>
+  void scatter(F&& f);
+
+  Case case_data_;
+  Grid<D> grid_;
+  Particles<D> particles_;
+  NodeFields<D> nodes_;
+  std::vector<Material> body_material_;  // per body
+  std::vector<double> body_lp_;          // GIMP half-width per body
+  std::vector<NodeCondition> conditions_;
+  Vec<D> gravity_ = Vec<D>::Zero();
+
+  // Slab binning for the coloured scatter: particles of slab s and body b are
+  // bin_index_[bin_offset_[s * B + b] .. bin_offset_[s * B + b + 1]).
+  int slab_width_ = 4;
+  std::int64_t num_slabs_ = 1;
+  std::vector<std::uint32_t> bin_index_;
+  std::vector<std::size_t> bin_offset_;
+  std::vector<std::uint32_t> particle_bin_;
+
+  double time_ = 0.0;
+  double dt_ = 0.0;
+  std::int64_t steps_ = 0;
+  int sort_interval_ = 20;
+  PhaseTimes phase_times_;
+};
+
+} // namespace talus

@@ -1,0 +1,162 @@
+// The case file: a good case maps onto Case; each bad case gets its message with the file, the
+// line and the key path, and a suggestion where a key is misspelt.
+#include "talus/case/geometry.hpp"
+#include "talus/case/parse.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+namespace talus {
+namespace {
+
+const std::string good = R"(title = "block"
+[simulation]
+dimension = 2
+end_time = 1.0
+gravity = [0, -9.81]
+scheme = "usl"
+flip = 0.95
+[grid]
+origin = [-1, 0]
+extent = [4, 2]
+cell_size = 0.25
+shape_function = "linear"
+[grid.boundary]
+y_min = "fixed"
+x_min = "slip"
+[[material]]
+name = "rock"
+density = 2000
+youngs_modulus = 1e7
+poisson_ratio = 0.25
+[[body]]
+name = "block"
+material = "rock"
+box = { min = [0, 0], max = [1, 0.5] }
+particles_per_cell = 2
+[[body]]
+name = "ball"
+material = "rock"
+disk = { center = [2, 1], radius = 0.3 }
+[[boundary]]
+body = "block"
+max = [0.1, 2]
+velocity_x = 0.0
+[[probe]]
+name = "top"
+body = "block"
+near = [0.5, 0.5]
+[output]
+every = 0.1
+)";
+
+TEST(ParseCase, AGoodCaseMapsOntoTheStruct) {
+  const Case c = test::case_from(good);
+  EXPECT_EQ(c.title, "block");
+  EXPECT_EQ(c.simulation.scheme, Scheme::usl);
+  EXPECT_DOUBLE_EQ(c.simulation.flip, 0.95);
+  EXPECT_DOUBLE_EQ(c.simulation.gravity[1], -9.81);
+  EXPECT_EQ(c.grid.shape, ShapeKind::linear);
+  EXPECT_EQ(c.grid.faces[2], FaceCondition::fixed);
+  EXPECT_EQ(c.grid.faces[0], FaceCondition::slip);
+  EXPECT_EQ(c.grid.faces[1], FaceCondition::free);
+  ASSERT_EQ(c.bodies.size(), 2u);
+  EXPECT_EQ(c.bodies[1].geometry[0].kind, Geometry::Kind::disk);
+  ASSERT_EQ(c.boundaries.size(), 1u);
+  EXPECT_TRUE(c.boundaries[0].fixed[0]);
+  EXPECT_FALSE(c.boundaries[0].fixed[1]);
+  EXPECT_EQ(c.probes[0].body, 0);
+  // 1 m x 0.5 m at 0.25 m cells and 2 x 2 per cell: 4 x 2 cells x 4 = 32 particles.
+  EXPECT_EQ(count_particles(c, 0), 32u);
+}
+
+TEST(ParseCase, OverridesReplaceKeysByPathAndByName) {
+  const Case c = test::case_from(good, {"grid.cell_size=0.125", "body.block.particles_per_cell=3",
+                                        "simulation.scheme=musl", "material.0.density=2500"});
+  EXPECT_DOUBLE_EQ(c.grid.cell_size, 0.125);
+  EXPECT_EQ(c.bodies[0].particles_per_cell, 3);
+  EXPECT_EQ(c.simulation.scheme, Scheme::musl);
+  EXPECT_DOUBLE_EQ(c.materials[0].density(), 2500.0);
+  EXPECT_NE(c.text.find("2500"), std::string::npos); // the case as run carries the override
+}
+
+TEST(ParseCase, PolygonFromTheVaiontCsv) {
+  const auto v = read_polygon_csv(std::string(TALUS_SOURCE_DIR) + "/cases/examples/wedge.csv");
+  ASSERT_GE(v.size(), 3u);
+  EXPECT_TRUE(point_in_polygon(v, 1.0, 0.2));
+  EXPECT_FALSE(point_in_polygon(v, 3.9, 1.9));
+}
+
+struct BadCase {
+  std::string name;
+  std::string from;     // text in the good case to replace
+  std::string to;
+  std::string message;  // expected in what()
+};
+
+class BadCaseTest : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BadCaseTest, NamesTheFileTheLineAndTheKey) {
+  const BadCase& b = GetParam();
+  std::string text = good;
+  const auto at = text.find(b.from);
+  ASSERT_NE(at, std::string::npos) << b.from;
+  text.replace(at, b.from.size(), b.to);
+  try {
+    test::case_from(text);
+    FAIL() << "no error for " << b.name;
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find(b.message), std::string::npos)
+        << "got: " << e.what() << "\nexpected: " << b.message;
+    EXPECT_NE(std::string(e.what()).find("inline.toml"), std::string::npos) << e.what();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Errors, BadCaseTest,
+    ::testing::Values(
+        BadCase{"misspelt_key", "end_time = 1.0", "end_tme = 1.0",
+                "inline.toml:2: simulation.end_time: required key is missing (line 4 has 'end_tme')"},
+        BadCase{"missing_key", "end_time = 1.0\n", "",
+                "simulation.end_time: required key is missing"},
+        BadCase{"wrong_type", "cell_size = 0.25", "cell_size = \"fine\"",
+                "inline.toml:11: grid.cell_size: expected a number, got a string"},
+        BadCase{"negative_modulus", "youngs_modulus = 1e7", "youngs_modulus = -1e7",
+                "inline.toml:19: material[0].youngs_modulus: must be > 0 Pa"},
+        BadCase{"poisson_half", "poisson_ratio = 0.25", "poisson_ratio = 0.5",
+                "material[0].poisson_ratio: must be in [0, 0.5)"},
+        BadCase{"zero_density", "density = 2000", "density = 0",
+                "inline.toml:18: material[0].density: must be > 0 kg/m^3"},
+        BadCase{"unknown_material", "material = \"rock\"\nbox", "material = \"rok\"\nbox",
+                "body[0].material: no material is named 'rok' (did you mean 'rock'?)"},
+        BadCase{"outside_grid", "max = [1, 0.5]", "max = [1, 2.5]",
+                "body[0].box: the body reaches outside the grid along y"},
+        BadCase{"bad_scheme", "scheme = \"usl\"", "scheme = \"usll\"",
+                "simulation.scheme: 'usll' is not one of: usf, usl, musl (did you mean 'usl'?)"},
+        BadCase{"bad_face", "y_min = \"fixed\"", "y_min = \"fix\"",
+                "grid.boundary.y_min: 'fix' is not one of: free, fixed, slip"},
+        BadCase{"vector_length", "gravity = [0, -9.81]", "gravity = [0, -9.81, 0]",
+                "simulation.gravity: expected an array of 2 numbers"},
+        BadCase{"dimension", "dimension = 2", "dimension = 4", "simulation.dimension: must be 2"},
+        BadCase{"flip_range", "flip = 0.95", "flip = 1.5", "simulation.flip: must be in [0, 1]"},
+        BadCase{"two_geometries", "box = { min = [0, 0], max = [1, 0.5] }",
+                "box = { min = [0, 0], max = [1, 0.5] }\ndisk = { center = [0.5, 0.5], radius = 0.1 }",
+                "a body needs exactly one geometry"},
+        BadCase{"syntax", "[output]", "[output", "inline.toml:38:"},
+        BadCase{"duplicate_body", "name = \"ball\"", "name = \"block\"",
+                "body[1].name: two bodies have this name"},
+        BadCase{"empty_boundary", "velocity_x = 0.0", "",
+                "boundary[0].velocity: a boundary must set velocity"},
+        BadCase{"probe_body", "body = \"block\"\nnear", "body = \"blok\"\nnear",
+                "probe[0].body: no body is named 'blok'"},
+        BadCase{"ppc_range", "particles_per_cell = 2", "particles_per_cell = 0",
+                "body[0].particles_per_cell: must be 1 to 8"},
+        BadCase{"nan", "end_time = 1.0", "end_time = nan", "simulation.end_time: must be a finite number"},
+        BadCase{"missing_polygon_file", "box = { min = [0, 0], max = [1, 0.5] }",
+                "polygon = \"no_such.csv\"", "no_such.csv: cannot open the polygon file"},
+        BadCase{"unknown_section", "[output]", "[outptu]",
+                "outptu: unknown key (did you mean 'output'?)"}),
+    [](const auto& info) { return info.param.name; });
+
+} // namespace
+} // namespace talus

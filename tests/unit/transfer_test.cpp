@@ -1,0 +1,133 @@
+// Transfers: P2G conserves mass and momentum to round-off; a PIC G2P returns the grid's momentum
+// to the particles; the coloured scatter gives bitwise the same state for 1 and 2 threads.
+#include "talus/solver.hpp"
+#include "test_support.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <random>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace talus {
+namespace {
+
+template <int D>
+std::string block_case(const std::string& shape, const std::string& scheme, double flip) {
+  const std::string v0 = D == 2 ? "[0, 0]" : "[0, 0, 0]";
+  const std::string lo = D == 2 ? "[0.2, 0.3]" : "[0.2, 0.3, 0.25]";
+  const std::string hi = D == 2 ? "[1.3, 0.9]" : "[1.3, 0.9, 0.75]";
+  const std::string ext = D == 2 ? "[1.6, 1.2]" : "[1.6, 1.2, 1.0]";
+  const std::string g = D == 2 ? "[0, -9.81]" : "[0, 0, -9.81]";
+  return fmt::format(R"(
+[simulation]
+dimension = {}
+end_time = 1.0
+gravity = {}
+scheme = "{}"
+flip = {}
+[grid]
+extent = {}
+cell_size = 0.1
+shape_function = "{}"
+[[material]]
+name = "m"
+density = 1500
+youngs_modulus = 1e6
+poisson_ratio = 0.3
+[[body]]
+name = "a"
+material = "m"
+box = {{ min = {}, max = {} }}
+particles_per_cell = 2
+velocity = {}
+)",
+                     D, g, scheme, flip, ext, shape, lo, hi, v0);
+}
+
+// Random velocities and stresses so the transfers see a non-trivial state.
+template <int D>
+void randomise(Particles<D>& P, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    for (int d = 0; d < D; ++d) P.v[p][d] = u(rng), P.x[p][d] += 0.02 * u(rng);
+    for (int k = 0; k < 6; ++k) P.stress[p][k] = 1e3 * u(rng);
+  }
+}
+
+template <class T>
+class TransferTest : public ::testing::Test {};
+using Dims = ::testing::Types<std::integral_constant<int, 2>, std::integral_constant<int, 3>>;
+TYPED_TEST_SUITE(TransferTest, Dims);
+
+TYPED_TEST(TransferTest, ScatterConservesMassAndMomentum) {
+  constexpr int D = TypeParam::value;
+  for (const char* shape : {"linear", "gimp"}) {
+    Simulation<D> sim(test::case_from(block_case<D>(shape, "usl", 1.0)));
+    randomise(sim.particles_mut(), 3);
+    sim.bin_particles_by_slab();
+    sim.clear_nodes();
+    sim.map_particles_to_nodes(true);
+    const auto& P = sim.particles();
+    const auto& N = sim.nodes();
+    double m_p = 0.0, m_I = 0.0;
+    Vec<D> p_p = Vec<D>::Zero(), p_I = Vec<D>::Zero(), f_I = Vec<D>::Zero();
+    for (std::size_t p = 0; p < P.size(); ++p) m_p += P.m[p], p_p += P.m[p] * P.v[p];
+    for (std::size_t i = 0; i < N.size(); ++i) m_I += N.m[i], p_I += N.p[i], f_I += N.f[i];
+    EXPECT_NEAR(m_I, m_p, 1e-12 * m_p) << shape;
+    EXPECT_LT((p_I - p_p).norm(), 1e-12 * m_p) << shape;
+    // Internal forces sum to zero (gradients sum to zero); external force is the total weight.
+    Vec<D> weight = Vec<D>::Zero();
+    weight[D - 1] = -9.81 * m_p;
+    EXPECT_LT((f_I - weight).norm(), 1e-9 * m_p * 9.81) << shape;
+  }
+}
+
+TYPED_TEST(TransferTest, PicGatherReturnsTheGridMomentum) {
+  constexpr int D = TypeParam::value;
+  Simulation<D> sim(test::case_from(block_case<D>("gimp", "usl", 0.0)));
+  randomise(sim.particles_mut(), 5);
+  sim.bin_particles_by_slab();
+  sim.clear_nodes();
+  sim.map_particles_to_nodes(true);
+  const double dt = 1e-4;
+  sim.compute_node_velocities(dt);
+  Vec<D> grid_momentum = Vec<D>::Zero();
+  const auto& N = sim.nodes();
+  for (std::size_t i = 0; i < N.size(); ++i) grid_momentum += N.m[i] * N.v_new[i];
+  sim.map_nodes_to_particles(dt, {.velocity = true});
+  Vec<D> particle_momentum = Vec<D>::Zero();
+  double mass = 0.0;
+  for (std::size_t p = 0; p < sim.particles().size(); ++p)
+    particle_momentum += sim.particles().m[p] * sim.particles().v[p], mass += sim.particles().m[p];
+  EXPECT_LT((particle_momentum - grid_momentum).norm(), 1e-12 * mass);
+}
+
+#ifdef _OPENMP
+// The coloured scatter sums each node in a fixed order: 1 and 2 threads agree bit for bit.
+TYPED_TEST(TransferTest, OneAndTwoThreadsAreBitwiseIdentical) {
+  constexpr int D = TypeParam::value;
+  auto run = [](int threads) {
+    omp_set_num_threads(threads);
+    Simulation<D> sim(test::case_from(block_case<D>("gimp", "musl", 0.99)));
+    randomise(sim.particles_mut(), 11);
+    for (int s = 0; s < 30; ++s) sim.step();
+    return sim.particles();
+  };
+  const int before = omp_get_max_threads();
+  const Particles<D> a = run(1), b = run(2);
+  omp_set_num_threads(before);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t p = 0; p < a.size(); ++p) {
+    ASSERT_EQ(a.id[p], b.id[p]);
+    ASSERT_TRUE(a.x[p] == b.x[p]) << p;
+    ASSERT_TRUE(a.v[p] == b.v[p]) << p;
+    ASSERT_TRUE(a.stress[p] == b.stress[p]) << p;
+  }
+}
+#endif
+
+} // namespace
+} // namespace talus
