@@ -15,8 +15,12 @@
 namespace {
 
 // Bytes per particle and per grid node of the solver's arrays (see particles.hpp, nodes.hpp).
-constexpr double particle_bytes(int dim) { return dim == 2 ? 180.0 : 300.0; }
-constexpr double node_bytes(int dim) { return dim == 2 ? 90.0 : 130.0; }
+constexpr double particle_bytes(int dim) {
+  return dim == 2 ? 180.0 : 300.0;
+}
+constexpr double node_bytes(int dim) {
+  return dim == 2 ? 90.0 : 130.0;
+}
 
 int check(const talus::Case& c) {
   const int dim = c.simulation.dimension;
@@ -25,19 +29,24 @@ int check(const talus::Case& c) {
   fmt::print("case {}: {}\n", c.file, c.title);
   for (std::size_t b = 0; b < c.bodies.size(); ++b) {
     const std::size_t n = talus::count_particles(c, b);
+    talus::require_particles(c, b, n);
     total += n;
     const auto& mat = c.materials[c.bodies[b].material];
     max_wave = std::max(max_wave, std::sqrt(mat.p_wave_modulus() / mat.density()));
     fmt::print("  body {:<16} {:>10} particles  material {}\n", c.bodies[b].name, n, mat.name);
   }
   double nodes = 1.0;
-  for (int d = 0; d < dim; ++d) nodes *= std::ceil(c.grid.extent[d] / c.grid.cell_size - 1e-9) + 1.0;
+  for (int d = 0; d < dim; ++d)
+    nodes *= std::ceil(c.grid.extent[d] / c.grid.cell_size - 1e-9) + 1.0;
   const double dt = c.simulation.dt ? *c.simulation.dt
-                                    : std::min(c.simulation.dt_max, c.simulation.cfl * c.grid.cell_size / max_wave);
+                                    : std::min(c.simulation.dt_max,
+                                               c.simulation.cfl * c.grid.cell_size / max_wave);
   const double steps = std::ceil(c.simulation.end_time / dt);
   const double memory = total * particle_bytes(dim) + nodes * node_bytes(dim);
-  constexpr double assumed_rate = 5e6; // particle-updates per second, 2 threads (docs/performance.md)
-  fmt::print("  {} particles, {:.0f} grid nodes ({}D, cell {} m)\n", total, nodes, dim, c.grid.cell_size);
+  constexpr double assumed_rate =
+      5e6; // particle-updates per second, 2 threads (docs/performance.md)
+  fmt::print("  {} particles, {:.0f} grid nodes ({}D, cell {} m)\n", total, nodes, dim,
+             c.grid.cell_size);
   fmt::print("  time step {:.3g} s ({}), about {:.0f} steps to {} s\n", dt,
              c.simulation.dt ? "fixed" : "CFL at rest", steps, c.simulation.end_time);
   fmt::print("  memory about {:.1f} MB; run time about {:.0f} s at {:.0e} particle-updates/s\n",
@@ -61,7 +70,8 @@ int main(int argc, char** argv) {
   run->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
   run->add_option("--out,-o", out_dir, "run folder (default: runs/<case name>)");
   run->add_option("--set", overrides, "override a key: --set grid.cell_size=4 (repeatable)");
-  run->add_option("--threads,-t", threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
+  run->add_option("--threads,-t", threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::PositiveNumber);
   run->add_option("--max-steps", max_steps, "stop after this many steps");
 
   auto* chk = app.add_subcommand("check", "validate a case and estimate its size and run time");
@@ -77,7 +87,14 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "error: {}\n", e.what());
     return 2;
   }
-  if (chk->parsed()) return check(c);
+  if (chk->parsed()) {
+    try {
+      return check(c);
+    } catch (const talus::CaseError& e) {
+      fmt::print(stderr, "error: {}\n", e.what());
+      return 2;
+    }
+  }
 
   if (out_dir.empty()) {
     const auto stem = std::filesystem::path(case_file).stem().string();

@@ -25,7 +25,8 @@ std::vector<NodeCondition> build_node_conditions(const Case& c, const Grid<D>& g
     for (std::int64_t n = 0; n < grid.num_nodes(); ++n) {
       const Vec<D> x = grid.node_position(grid.node_coords(n));
       bool in = true;
-      for (int d = 0; d < D; ++d) in = in && x[d] >= b.min[d] && x[d] <= b.max[d];
+      for (int d = 0; d < D; ++d)
+        in = in && x[d] >= b.min[d] && x[d] <= b.max[d];
       if (in) nodes.push_back(n);
     }
     for (int d = 0; d < D; ++d)

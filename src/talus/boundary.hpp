@@ -24,7 +24,8 @@ std::vector<NodeCondition> build_node_conditions(const Case& c, const Grid<D>& g
 template <int D>
 void apply_node_conditions(const std::vector<NodeCondition>& conds, std::vector<Vec<D>>& velocity) {
   for (const NodeCondition& nc : conds)
-    for (const std::int64_t n : nc.nodes) velocity[n][nc.component] = nc.velocity;
+    for (const std::int64_t n : nc.nodes)
+      velocity[n][nc.component] = nc.velocity;
 }
 
 } // namespace talus

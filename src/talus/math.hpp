@@ -48,10 +48,14 @@ Mat<D> in_plane(const Mat3& t) {
   return t.template topLeftCorner<D, D>();
 }
 
-inline double trace(const Voigt& s) { return s[0] + s[1] + s[2]; }
+inline double trace(const Voigt& s) {
+  return s[0] + s[1] + s[2];
+}
 
 // Mean stress p = tr(sigma)/3 (tension positive).
-inline double mean_stress(const Voigt& s) { return trace(s) / 3.0; }
+inline double mean_stress(const Voigt& s) {
+  return trace(s) / 3.0;
+}
 
 // Deviator s = sigma - p I.
 inline Voigt deviator(const Voigt& s) {

@@ -10,11 +10,11 @@ namespace talus {
 
 template <int D>
 struct NodeFields {
-  std::vector<double> m;      // mass M_I (eq. 14)
-  std::vector<Vec<D>> p;      // momentum p_I (eq. 16); in MUSL re-mapped from updated particles
-  std::vector<Vec<D>> f;      // internal + external force (eq. 17-18)
-  std::vector<Vec<D>> v;      // velocity at the start of the step, v_I^n
-  std::vector<Vec<D>> v_new;  // velocity at the end of the step, v_I^{n+1} (eq. 20)
+  std::vector<double> m;       // mass M_I (eq. 14)
+  std::vector<Vec<D>> p;       // momentum p_I (eq. 16); in MUSL re-mapped from updated particles
+  std::vector<Vec<D>> f;       // internal + external force (eq. 17-18)
+  std::vector<Vec<D>> v;       // velocity at the start of the step, v_I^n
+  std::vector<Vec<D>> v_new;   // velocity at the end of the step, v_I^{n+1} (eq. 20)
   std::vector<Vec<D>> v_remap; // MUSL: velocity re-mapped from the updated particles
 
   void resize(std::size_t n) {

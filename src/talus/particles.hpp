@@ -12,16 +12,16 @@ namespace talus {
 
 template <int D>
 struct Particles {
-  std::vector<Vec<D>> x;          // position
-  std::vector<Vec<D>> x0;         // initial position (for displacement)
-  std::vector<Vec<D>> v;          // velocity
-  std::vector<double> m;          // mass
-  std::vector<double> vol0;       // initial volume (per unit thickness in 2D)
-  std::vector<double> vol;        // current volume = vol0 det F
-  std::vector<Voigt> stress;      // Cauchy stress, tension positive
-  std::vector<Mat<D>> F;          // deformation gradient
-  std::vector<double> eps_p;      // equivalent plastic strain (0 for elastic materials)
-  std::vector<std::uint32_t> id;  // stable particle id (index at creation), survives sorting
+  std::vector<Vec<D>> x;         // position
+  std::vector<Vec<D>> x0;        // initial position (for displacement)
+  std::vector<Vec<D>> v;         // velocity
+  std::vector<double> m;         // mass
+  std::vector<double> vol0;      // initial volume (per unit thickness in 2D)
+  std::vector<double> vol;       // current volume = vol0 det F
+  std::vector<Voigt> stress;     // Cauchy stress, tension positive
+  std::vector<Mat<D>> F;         // deformation gradient
+  std::vector<double> eps_p;     // equivalent plastic strain (0 for elastic materials)
+  std::vector<std::uint32_t> id; // stable particle id (index at creation), survives sorting
 
   std::vector<std::size_t> body_begin{0}; // size = bodies + 1
 
@@ -29,7 +29,8 @@ struct Particles {
   int num_bodies() const { return static_cast<int>(body_begin.size()) - 1; }
   int body_of(std::size_t p) const {
     int b = 0;
-    while (p >= body_begin[b + 1]) ++b;
+    while (p >= body_begin[b + 1])
+      ++b;
     return b;
   }
 

@@ -37,13 +37,16 @@ public:
     if (!out_) return;
     const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
     const double frac = std::min(1.0, t / end_);
-    const bool due = tty_ ? wall - last_wall_ >= 0.2 : (frac >= next_frac_ || wall - last_wall_ >= 30.0);
+    const bool due =
+        tty_ ? wall - last_wall_ >= 0.2 : (frac >= next_frac_ || wall - last_wall_ >= 30.0);
     if (!due && !final) return;
     last_wall_ = wall;
-    while (next_frac_ <= frac) next_frac_ += 0.1;
+    while (next_frac_ <= frac)
+      next_frac_ += 0.1;
     const double eta = frac > 0 ? wall * (1.0 - frac) / frac : 0.0;
-    const std::string text = fmt::format("t = {:.4g} / {:.4g} s  {:5.1f} %  {} steps  {:.0f} steps/s  ETA {:.0f} s",
-                                         t, end_, 100.0 * frac, steps, wall > 0 ? steps / wall : 0.0, eta);
+    const std::string text =
+        fmt::format("t = {:.4g} / {:.4g} s  {:5.1f} %  {} steps  {:.0f} steps/s  ETA {:.0f} s", t,
+                    end_, 100.0 * frac, steps, wall > 0 ? steps / wall : 0.0, eta);
     if (tty_) {
       const int width = 30;
       const int filled = static_cast<int>(frac * width);
@@ -104,7 +107,8 @@ RunResult run_dim(const Case& c, const RunOptions& opt) {
   r.simulated_time = sim.time();
   r.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
   r.particle_updates_per_second =
-      stepping > 0 ? static_cast<double>(r.particles) * static_cast<double>(r.steps) / stepping : 0.0;
+      stepping > 0 ? static_cast<double>(r.particles) * static_cast<double>(r.steps) / stepping
+                   : 0.0;
   writer.write_summary(sim, r.status, r.wall_seconds, stepping, threads, r.message);
   return r;
 }

@@ -12,14 +12,14 @@ namespace talus {
 
 struct RunOptions {
   std::string out_dir;
-  int threads = 0;                          // 0: OpenMP's default
-  std::optional<std::int64_t> max_steps;    // stop early (tests, benchmarks)
-  std::ostream* log = nullptr;              // progress and messages; null: silent
+  int threads = 0;                       // 0: OpenMP's default
+  std::optional<std::int64_t> max_steps; // stop early (tests, benchmarks)
+  std::ostream* log = nullptr;           // progress and messages; null: silent
 };
 
 struct RunResult {
-  std::string status;                       // completed, failed
-  std::string message;                      // why it failed
+  std::string status;  // completed, failed
+  std::string message; // why it failed
   std::int64_t steps = 0;
   double simulated_time = 0.0;
   double wall_seconds = 0.0;

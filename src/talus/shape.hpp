@@ -15,10 +15,10 @@ enum class ShapeKind { linear, gimp };
 template <int D>
 struct ShapeWeights {
   static constexpr int max_k = 3;
-  Index<D> base{};          // lowest node in the support, per direction
-  int k = 2;                // nodes per direction
-  double w[D][max_k]{};     // 1D weights
-  double dw[D][max_k]{};    // 1D derivatives d/dx
+  Index<D> base{};       // lowest node in the support, per direction
+  int k = 2;             // nodes per direction
+  double w[D][max_k]{};  // 1D weights
+  double dw[D][max_k]{}; // 1D derivatives d/dx
 };
 
 // 1D uniform GIMP weight and derivative for a node at signed distance r = x_p - x_I, cell size h
@@ -50,7 +50,8 @@ ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, double lp, c
   sw.k = kind == ShapeKind::linear ? 2 : 3;
   for (int d = 0; d < D; ++d) {
     const double xi = (x[d] - grid.origin[d]) / grid.h;
-    const auto base = static_cast<std::int64_t>(std::floor(kind == ShapeKind::linear ? xi : xi - 0.5));
+    const auto base =
+        static_cast<std::int64_t>(std::floor(kind == ShapeKind::linear ? xi : xi - 0.5));
     sw.base[d] = base;
     for (int a = 0; a < sw.k; ++a) {
       const std::int64_t node = base + a;
@@ -90,13 +91,13 @@ inline void for_each_node(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& f)
   } else {
     for (int a = 0; a < k; ++a) {
       for (int b = 0; b < k; ++b) {
-        const std::int64_t row = (clamp(0, sw.base[0] + a) * grid.nodes[1] +
-                                  clamp(1, sw.base[1] + b)) * grid.nodes[2];
+        const std::int64_t row =
+            (clamp(0, sw.base[0] + a) * grid.nodes[1] + clamp(1, sw.base[1] + b)) * grid.nodes[2];
         const double wab = sw.w[0][a] * sw.w[1][b];
         for (int c = 0; c < k; ++c) {
           const double N = wab * sw.w[2][c];
-          const Vec<3> g(sw.dw[0][a] * sw.w[1][b] * sw.w[2][c], sw.w[0][a] * sw.dw[1][b] * sw.w[2][c],
-                         wab * sw.dw[2][c]);
+          const Vec<3> g(sw.dw[0][a] * sw.w[1][b] * sw.w[2][c],
+                         sw.w[0][a] * sw.dw[1][b] * sw.w[2][c], wab * sw.dw[2][c]);
           f(row + clamp(2, sw.base[2] + c), N, g);
         }
       }

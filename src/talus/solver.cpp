@@ -23,7 +23,8 @@ double seconds_since(Clock::time_point t0) {
 template <class T>
 void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
   std::vector<T> tmp(a.size());
-  for (std::size_t i = 0; i < order.size(); ++i) tmp[i] = a[order[i]];
+  for (std::size_t i = 0; i < order.size(); ++i)
+    tmp[i] = a[order[i]];
   a.swap(tmp);
 }
 
@@ -39,7 +40,8 @@ void record_bad(std::atomic<std::size_t>& first, std::size_t p) {
 template <int D>
 Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   Vec<D> origin, extent;
-  for (int d = 0; d < D; ++d) origin[d] = c.grid.origin[d], extent[d] = c.grid.extent[d];
+  for (int d = 0; d < D; ++d)
+    origin[d] = c.grid.origin[d], extent[d] = c.grid.extent[d];
   grid_ = Grid<D>(origin, extent, c.grid.cell_size);
   particles_ = fill_particles<D>(c);
   nodes_.resize(static_cast<std::size_t>(grid_.num_nodes()));
@@ -48,7 +50,8 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     body_lp_.push_back(0.5 * c.grid.cell_size / b.particles_per_cell);
   }
   conditions_ = build_node_conditions<D>(c, grid_);
-  for (int d = 0; d < D; ++d) gravity_[d] = c.simulation.gravity[d];
+  for (int d = 0; d < D; ++d)
+    gravity_[d] = c.simulation.gravity[d];
   // Slab width: GIMP writes nodes [cell-1, cell+2], so slabs of 4 cells keep two slabs of one
   // colour at least one slab apart.
   slab_width_ = 4;
@@ -91,10 +94,10 @@ void Simulation<D>::check_particles() const {
                      : !P.v[p].allFinite()      ? "velocity is not finite"
                      : !P.stress[p].allFinite() ? "stress is not finite"
                                                 : "particle left the grid";
-  throw SimulationError(fmt::format(
-      "step {}, time {:.6g} s: body '{}', particle {} (id {}) at ({}): {}", steps_, time_,
-      case_data_.bodies[P.body_of(p)].name, p, P.id[p],
-      fmt::join(P.x[p].data(), P.x[p].data() + D, ", "), what));
+  throw SimulationError(
+      fmt::format("step {}, time {:.6g} s: body '{}', particle {} (id {}) at ({}): {}", steps_,
+                  time_, case_data_.bodies[P.body_of(p)].name, p, P.id[p],
+                  fmt::join(P.x[p].data(), P.x[p].data() + D, ", "), what));
 }
 
 template <int D>
@@ -103,7 +106,8 @@ void Simulation<D>::sort_particles_by_cell() {
   std::vector<std::uint32_t> order(P.size());
   std::iota(order.begin(), order.end(), 0u);
   std::vector<std::int64_t> key(P.size());
-  for (std::size_t p = 0; p < P.size(); ++p) key[p] = grid_.cell_index(grid_.cell_of(P.x[p]));
+  for (std::size_t p = 0; p < P.size(); ++p)
+    key[p] = grid_.cell_index(grid_.cell_of(P.x[p]));
   for (int b = 0; b < P.num_bodies(); ++b)
     std::stable_sort(order.begin() + P.body_begin[b], order.begin() + P.body_begin[b + 1],
                      [&](std::uint32_t i, std::uint32_t j) { return key[i] < key[j]; });
@@ -129,7 +133,8 @@ void Simulation<D>::bin_particles_by_slab() {
   }
   std::partial_sum(bin_offset_.begin(), bin_offset_.end(), bin_offset_.begin());
   std::vector<std::size_t> fill(bin_offset_.begin(), bin_offset_.end() - 1);
-  for (std::size_t p = 0; p < n; ++p) bin_index_[fill[particle_bin_[p]]++] = static_cast<std::uint32_t>(p);
+  for (std::size_t p = 0; p < n; ++p)
+    bin_index_[fill[particle_bin_[p]]++] = static_cast<std::uint32_t>(p);
 }
 
 template <int D>
@@ -200,11 +205,13 @@ void Simulation<D>::map_momentum_to_nodes() {
   const ShapeKind kind = case_data_.grid.shape;
   const std::int64_t n = static_cast<std::int64_t>(N.size());
 #pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) N.p[i].setZero();
+  for (std::int64_t i = 0; i < n; ++i)
+    N.p[i].setZero();
   scatter([&](std::uint32_t p, int b) {
     const ShapeWeights<D> sw = evaluate_shape(grid_, kind, body_lp_[b], P.x[p]);
     const Vec<D> mv_p = P.m[p] * P.v[p];
-    for_each_node(grid_, sw, [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
+    for_each_node(grid_, sw,
+                  [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
   });
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i)
@@ -281,7 +288,8 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
       if (!(J > 0.0)) record_bad(bad, static_cast<std::size_t>(p));
       P.vol[p] = P.vol0[p] * J;
       const Mat3 L3 = embed<D>(L);
-      update_stress(*model, P.stress[p], 0.5 * (L3 + L3.transpose()), 0.5 * (L3 - L3.transpose()), dt);
+      update_stress(*model, P.stress[p], 0.5 * (L3 + L3.transpose()), 0.5 * (L3 - L3.transpose()),
+                    dt);
     }
   }
   if (const std::size_t p = bad.load(); p != P.size())
@@ -321,7 +329,8 @@ void Simulation<D>::step(double dt_limit) {
     timed(T.p2g, [&] { map_particles_to_nodes(true); });
     timed(T.grid, [&] { compute_node_velocities(dt_); });
     timed(T.g2p, [&] {
-      map_nodes_to_particles(dt_, {.velocity = true, .move = true, .strain_rate_field = &nodes_.v_new});
+      map_nodes_to_particles(dt_,
+                             {.velocity = true, .move = true, .strain_rate_field = &nodes_.v_new});
     });
     break;
   case Scheme::musl: // stress last, from the velocity re-mapped from the updated particles

@@ -81,8 +81,8 @@ private:
   Grid<D> grid_;
   Particles<D> particles_;
   NodeFields<D> nodes_;
-  std::vector<Material> body_material_;  // per body
-  std::vector<double> body_lp_;          // GIMP half-width per body
+  std::vector<Material> body_material_; // per body
+  std::vector<double> body_lp_;         // GIMP half-width per body
   std::vector<NodeCondition> conditions_;
   Vec<D> gravity_ = Vec<D>::Zero();
 

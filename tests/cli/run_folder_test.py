@@ -1,0 +1,58 @@
+#!/usr/bin/python3
+"""The run-folder contract, end to end: run the example case with the real program, then read
+its ParaView output with a real VTK reader (meshio) and check it against the CSVs and summary."""
+import csv
+import json
+import os
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+import meshio
+import numpy as np
+
+talus, source, out = sys.argv[1], sys.argv[2], sys.argv[3]
+shutil.rmtree(out, ignore_errors=True)
+case = os.path.join(source, "cases/examples/block_on_floor.toml")
+subprocess.run([talus, "run", case, "--out", out, "--set", "simulation.end_time=0.2",
+                "--set", "output.every=0.1"], check=True, stdout=subprocess.DEVNULL)
+
+summary = json.load(open(os.path.join(out, "summary.json")))
+for key in ["talus_version", "case", "dimension", "particles", "bodies", "steps", "simulated_time",
+            "wall_seconds", "particle_updates_per_second", "threads", "status", "results"]:
+    assert key in summary, key
+assert summary["status"] == "completed"
+assert abs(summary["simulated_time"] - 0.2) < 1e-12
+assert "end_time = 0.2" in open(os.path.join(out, "case.toml")).read()
+
+frames = ET.parse(os.path.join(out, "particles.pvd")).getroot().findall(".//DataSet")
+assert [float(f.get("timestep")) for f in frames] == [0.0, 0.1, 0.2], frames
+assert not [f for f in os.listdir(out) if f.endswith(".tmp")]
+
+last = meshio.read(os.path.join(out, frames[-1].get("file")))
+n = summary["particles"]
+assert last.points.shape == (n, 3), last.points.shape
+for field in ["body", "id", "velocity", "displacement", "stress", "mass", "volume", "plastic_strain"]:
+    assert field in last.point_data, field
+    assert np.all(np.isfinite(last.point_data[field])), field
+body = last.point_data["body"].ravel()
+for b, (name, info) in enumerate(summary["bodies"].items()):
+    assert np.count_nonzero(body == b) == info["particles"], name
+
+# The VTU agrees with bodies.csv: mass and centroid of each body at the last frame.
+rows = [r for r in csv.DictReader(open(os.path.join(out, "bodies.csv"))) if float(r["time"]) == 0.2]
+mass = last.point_data["mass"].ravel()
+for b, row in enumerate(rows):
+    m = mass[body == b]
+    centroid = (m[:, None] * last.points[body == b, :2]).sum(axis=0) / m.sum()
+    assert abs(m.sum() - float(row["mass"])) < 1e-9 * m.sum(), row
+    assert np.allclose(centroid, [float(row["centroid_x"]), float(row["centroid_y"])], rtol=1e-9), (centroid, row)
+
+# Displacement is position minus initial position.
+first = meshio.read(os.path.join(out, frames[0].get("file")))
+order0 = np.argsort(first.point_data["id"].ravel())
+order1 = np.argsort(last.point_data["id"].ravel())
+disp = last.points[order1] - first.points[order0]
+assert np.allclose(disp, last.point_data["displacement"][order1], atol=1e-12)
+print(f"run folder ok: {n} particles, {len(frames)} frames read by meshio {meshio.__version__}")

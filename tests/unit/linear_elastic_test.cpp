@@ -15,7 +15,8 @@ TEST(LinearElastic, UniaxialStrainGivesTheConstrainedModulus) {
   Mat3 D = Mat3::Zero();
   D(0, 0) = -1e-3; // strain rate
   const double dt = 0.01;
-  for (int i = 0; i < 100; ++i) update_stress(rock, sigma, D, Mat3::Zero(), dt);
+  for (int i = 0; i < 100; ++i)
+    update_stress(rock, sigma, D, Mat3::Zero(), dt);
   const double eps = -1e-3; // total strain
   const double K = rock.bulk_modulus(), G = rock.shear_modulus();
   EXPECT_NEAR(sigma[0], (K + 4.0 / 3.0 * G) * eps, 1e-9 * std::abs(K * eps));
@@ -46,7 +47,8 @@ TEST(LinearElastic, RigidRotationByNinetyDegreesSwapsTheStress) {
   W(1, 0) = omega;
   const int steps = 2000;
   const double dt = std::numbers::pi / 2.0 / omega / steps;
-  for (int i = 0; i < steps; ++i) update_stress(rock, sigma, Mat3::Zero(), W, dt);
+  for (int i = 0; i < steps; ++i)
+    update_stress(rock, sigma, Mat3::Zero(), W, dt);
   EXPECT_NEAR(sigma[0], 0.0, 0.01 * s0);
   EXPECT_NEAR(sigma[1], s0, 0.01 * s0);
   EXPECT_NEAR(sigma[3], 0.0, 0.01 * s0);
@@ -60,7 +62,8 @@ TEST(LinearElastic, HalfwayThroughTheRotationTheStressIsTheRotatedTensor) {
   W(0, 1) = -1.0;
   W(1, 0) = 1.0;
   const int steps = 4000;
-  for (int i = 0; i < steps; ++i) update_stress(rock, sigma, Mat3::Zero(), W, theta / steps);
+  for (int i = 0; i < steps; ++i)
+    update_stress(rock, sigma, Mat3::Zero(), W, theta / steps);
   // R diag(s0, 0) R^T at 45 degrees: xx = yy = xy = s0 / 2.
   EXPECT_NEAR(sigma[0], s0 * std::cos(theta) * std::cos(theta), 1e-3 * s0);
   EXPECT_NEAR(sigma[1], s0 * std::sin(theta) * std::sin(theta), 1e-3 * s0);

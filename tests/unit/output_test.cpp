@@ -12,10 +12,15 @@ namespace talus {
 namespace {
 
 TEST(Base64, MatchesTheRfc4648Vectors) {
-  const std::pair<std::string, std::string> vectors[] = {
-      {"", ""}, {"f", "Zg=="}, {"fo", "Zm8="}, {"foo", "Zm9v"}, {"foob", "Zm9vYg=="},
-      {"fooba", "Zm9vYmE="}, {"foobar", "Zm9vYmFy"}};
-  for (const auto& [in, out] : vectors) EXPECT_EQ(base64(in.data(), in.size()), out);
+  const std::pair<std::string, std::string> vectors[] = {{"", ""},
+                                                         {"f", "Zg=="},
+                                                         {"fo", "Zm8="},
+                                                         {"foo", "Zm9v"},
+                                                         {"foob", "Zm9vYg=="},
+                                                         {"fooba", "Zm9vYmE="},
+                                                         {"foobar", "Zm9vYmFy"}};
+  for (const auto& [in, out] : vectors)
+    EXPECT_EQ(base64(in.data(), in.size()), out);
 }
 
 TEST(WriteFileAtomic, ReplacesTheFileAndLeavesNoTemporary) {
@@ -35,7 +40,8 @@ TEST(WriteFileAtomic, AnUnwritableFolderIsAClearError) {
     write_file_atomic("/nonexistent_dir/x.txt", "x");
     FAIL();
   } catch (const OutputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent_dir/x.txt: cannot write"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("/nonexistent_dir/x.txt: cannot write"),
+              std::string::npos);
   }
 }
 
@@ -54,7 +60,8 @@ TEST(Vtu, DeclaresOnePointAndOneVertexPerParticle) {
 }
 
 TEST(Pvd, ListsTheFramesInOrder) {
-  const std::string pvd = pvd_collection({{0.0, "particles_000000.vtu"}, {0.5, "particles_000001.vtu"}});
+  const std::string pvd =
+      pvd_collection({{0.0, "particles_000000.vtu"}, {0.5, "particles_000001.vtu"}});
   EXPECT_LT(pvd.find("particles_000000.vtu"), pvd.find("particles_000001.vtu"));
   EXPECT_NE(pvd.find("timestep=\"0.5\""), std::string::npos);
 }

@@ -89,9 +89,9 @@ TEST(ParseCase, PolygonFromTheVaiontCsv) {
 
 struct BadCase {
   std::string name;
-  std::string from;     // text in the good case to replace
+  std::string from; // text in the good case to replace
   std::string to;
-  std::string message;  // expected in what()
+  std::string message; // expected in what()
 };
 
 class BadCaseTest : public ::testing::TestWithParam<BadCase> {};
@@ -115,8 +115,9 @@ TEST_P(BadCaseTest, NamesTheFileTheLineAndTheKey) {
 INSTANTIATE_TEST_SUITE_P(
     Errors, BadCaseTest,
     ::testing::Values(
-        BadCase{"misspelt_key", "end_time = 1.0", "end_tme = 1.0",
-                "inline.toml:2: simulation.end_time: required key is missing (line 4 has 'end_tme')"},
+        BadCase{
+            "misspelt_key", "end_time = 1.0", "end_tme = 1.0",
+            "inline.toml:2: simulation.end_time: required key is missing (line 4 has 'end_tme')"},
         BadCase{"missing_key", "end_time = 1.0\n", "",
                 "simulation.end_time: required key is missing"},
         BadCase{"wrong_type", "cell_size = 0.25", "cell_size = \"fine\"",
@@ -139,9 +140,10 @@ INSTANTIATE_TEST_SUITE_P(
                 "simulation.gravity: expected an array of 2 numbers"},
         BadCase{"dimension", "dimension = 2", "dimension = 4", "simulation.dimension: must be 2"},
         BadCase{"flip_range", "flip = 0.95", "flip = 1.5", "simulation.flip: must be in [0, 1]"},
-        BadCase{"two_geometries", "box = { min = [0, 0], max = [1, 0.5] }",
-                "box = { min = [0, 0], max = [1, 0.5] }\ndisk = { center = [0.5, 0.5], radius = 0.1 }",
-                "a body needs exactly one geometry"},
+        BadCase{
+            "two_geometries", "box = { min = [0, 0], max = [1, 0.5] }",
+            "box = { min = [0, 0], max = [1, 0.5] }\ndisk = { center = [0.5, 0.5], radius = 0.1 }",
+            "a body needs exactly one geometry"},
         BadCase{"syntax", "[output]", "[output", "inline.toml:38:"},
         BadCase{"duplicate_body", "name = \"ball\"", "name = \"block\"",
                 "body[1].name: two bodies have this name"},
@@ -151,7 +153,8 @@ INSTANTIATE_TEST_SUITE_P(
                 "probe[0].body: no body is named 'blok'"},
         BadCase{"ppc_range", "particles_per_cell = 2", "particles_per_cell = 0",
                 "body[0].particles_per_cell: must be 1 to 8"},
-        BadCase{"nan", "end_time = 1.0", "end_time = nan", "simulation.end_time: must be a finite number"},
+        BadCase{"nan", "end_time = 1.0", "end_time = nan",
+                "simulation.end_time: must be a finite number"},
         BadCase{"missing_polygon_file", "box = { min = [0, 0], max = [1, 0.5] }",
                 "polygon = \"no_such.csv\"", "no_such.csv: cannot open the polygon file"},
         BadCase{"unknown_section", "[output]", "[outptu]",

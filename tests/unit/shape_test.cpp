@@ -30,7 +30,8 @@ TYPED_TEST(ShapeTest, PartitionOfUnityAndLinearReproduction) {
     for (double lp : {0.125, 0.25 / 3.0, 0.0625}) {
       for (int trial = 0; trial < 200; ++trial) {
         Vec<D> x;
-        for (int d = 0; d < D; ++d) x[d] = u(rng);
+        for (int d = 0; d < D; ++d)
+          x[d] = u(rng);
         const ShapeWeights<D> sw = evaluate_shape(grid, kind, lp, x);
         double sum = 0.0, f = 0.0;
         Vec<D> grad_sum = Vec<D>::Zero(), grad_f = Vec<D>::Zero();

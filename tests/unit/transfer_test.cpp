@@ -52,8 +52,10 @@ void randomise(Particles<D>& P, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (std::size_t p = 0; p < P.size(); ++p) {
-    for (int d = 0; d < D; ++d) P.v[p][d] = u(rng), P.x[p][d] += 0.02 * u(rng);
-    for (int k = 0; k < 6; ++k) P.stress[p][k] = 1e3 * u(rng);
+    for (int d = 0; d < D; ++d)
+      P.v[p][d] = u(rng), P.x[p][d] += 0.02 * u(rng);
+    for (int k = 0; k < 6; ++k)
+      P.stress[p][k] = 1e3 * u(rng);
   }
 }
 
@@ -74,8 +76,10 @@ TYPED_TEST(TransferTest, ScatterConservesMassAndMomentum) {
     const auto& N = sim.nodes();
     double m_p = 0.0, m_I = 0.0;
     Vec<D> p_p = Vec<D>::Zero(), p_I = Vec<D>::Zero(), f_I = Vec<D>::Zero();
-    for (std::size_t p = 0; p < P.size(); ++p) m_p += P.m[p], p_p += P.m[p] * P.v[p];
-    for (std::size_t i = 0; i < N.size(); ++i) m_I += N.m[i], p_I += N.p[i], f_I += N.f[i];
+    for (std::size_t p = 0; p < P.size(); ++p)
+      m_p += P.m[p], p_p += P.m[p] * P.v[p];
+    for (std::size_t i = 0; i < N.size(); ++i)
+      m_I += N.m[i], p_I += N.p[i], f_I += N.f[i];
     EXPECT_NEAR(m_I, m_p, 1e-12 * m_p) << shape;
     EXPECT_LT((p_I - p_p).norm(), 1e-12 * m_p) << shape;
     // Internal forces sum to zero (gradients sum to zero); external force is the total weight.
@@ -96,7 +100,8 @@ TYPED_TEST(TransferTest, PicGatherReturnsTheGridMomentum) {
   sim.compute_node_velocities(dt);
   Vec<D> grid_momentum = Vec<D>::Zero();
   const auto& N = sim.nodes();
-  for (std::size_t i = 0; i < N.size(); ++i) grid_momentum += N.m[i] * N.v_new[i];
+  for (std::size_t i = 0; i < N.size(); ++i)
+    grid_momentum += N.m[i] * N.v_new[i];
   sim.map_nodes_to_particles(dt, {.velocity = true});
   Vec<D> particle_momentum = Vec<D>::Zero();
   double mass = 0.0;
@@ -113,7 +118,8 @@ TYPED_TEST(TransferTest, OneAndTwoThreadsAreBitwiseIdentical) {
     omp_set_num_threads(threads);
     Simulation<D> sim(test::case_from(block_case<D>("gimp", "musl", 0.99)));
     randomise(sim.particles_mut(), 11);
-    for (int s = 0; s < 30; ++s) sim.step();
+    for (int s = 0; s < 30; ++s)
+      sim.step();
     return sim.particles();
   };
   const int before = omp_get_max_threads();

@@ -13,20 +13,23 @@ namespace {
 
 template <int D>
 double max_error_over_amplitude(const std::vector<std::string>& overrides) {
-  const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/bar_vibration.toml", overrides);
+  const Case c = parse_case_file(
+      std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/bar_vibration.toml", overrides);
   Simulation<D> sim(c);
   const double L = 1.0, v0 = 0.01;
   const auto& mat = std::get<LinearElastic>(c.materials[0].model);
   const double beta = std::numbers::pi / (2.0 * L);
   const double omega = beta * std::sqrt(mat.youngs_modulus / mat.density);
   auto& P = sim.particles_mut();
-  for (std::size_t p = 0; p < P.size(); ++p) P.v[p][0] = v0 * std::sin(beta * P.x[p][0]);
+  for (std::size_t p = 0; p < P.size(); ++p)
+    P.v[p][0] = v0 * std::sin(beta * P.x[p][0]);
   const double amplitude = 2.0 * v0 / std::numbers::pi;
   double worst = 0.0;
   while (sim.time() < c.simulation.end_time) {
     sim.step(c.simulation.end_time - sim.time());
     double m = 0.0, mv = 0.0;
-    for (std::size_t p = 0; p < P.size(); ++p) m += P.m[p], mv += P.m[p] * P.v[p][0];
+    for (std::size_t p = 0; p < P.size(); ++p)
+      m += P.m[p], mv += P.m[p] * P.v[p][0];
     worst = std::max(worst, std::abs(mv / m - amplitude * std::cos(omega * sim.time())));
   }
   return worst / amplitude;

@@ -37,12 +37,13 @@ name = "b"
 material = "m"
 box = {{ min = {}, max = {} }}
 )",
-                                              D, dt, g, scheme, dims, shape, lo, hi));
+                                             D, dt, g, scheme, dims, shape, lo, hi));
   Simulation<D> sim(c);
   const auto x0 = sim.particles().x;
   const auto id0 = sim.particles().id;
   const int steps = 500;
-  for (int s = 0; s < steps; ++s) sim.step();
+  for (int s = 0; s < steps; ++s)
+    sim.step();
   const double t = steps * dt;
   EXPECT_NEAR(sim.time(), t, 1e-12);
   const auto& P = sim.particles();
@@ -59,11 +60,13 @@ box = {{ min = {}, max = {} }}
 
 TEST(FreeFall, TwoDimensions) {
   for (const char* scheme : {"usf", "usl", "musl"})
-    for (const char* shape : {"linear", "gimp"}) check_free_fall<2>(scheme, shape);
+    for (const char* shape : {"linear", "gimp"})
+      check_free_fall<2>(scheme, shape);
 }
 
 TEST(FreeFall, ThreeDimensions) {
-  for (const char* scheme : {"usl", "musl"}) check_free_fall<3>(scheme, "gimp");
+  for (const char* scheme : {"usl", "musl"})
+    check_free_fall<3>(scheme, "gimp");
 }
 
 } // namespace

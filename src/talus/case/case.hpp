@@ -21,13 +21,13 @@ enum class Scheme { usf, usl, musl };
 struct SimulationSettings {
   int dimension = 2;
   double end_time = 0.0;
-  double cfl = 0.4;                 // used when dt is not given
-  std::optional<double> dt;         // fixed time step
-  double dt_max = inf;              // cap on the CFL step
+  double cfl = 0.4;         // used when dt is not given
+  std::optional<double> dt; // fixed time step
+  double dt_max = inf;      // cap on the CFL step
   Vec3a gravity{0.0, 0.0, 0.0};
   Scheme scheme = Scheme::musl;
-  double flip = 1.0;                // 1 = pure FLIP, 0 = pure PIC
-  double damping = 0.0;             // local (Cundall) damping fraction of the nodal force
+  double flip = 1.0;    // 1 = pure FLIP, 0 = pure PIC
+  double damping = 0.0; // local (Cundall) damping fraction of the nodal force
 };
 
 // What a face of the domain does to the grid velocity.
@@ -53,16 +53,16 @@ struct Geometry {
 
 struct BodySpec {
   std::string name;
-  int material = 0;                  // index into Case::materials
-  std::vector<Geometry> geometry;    // union of shapes
-  int particles_per_cell = 2;        // per direction
-  Vec3a velocity{0.0, 0.0, 0.0};     // initial velocity
+  int material = 0;               // index into Case::materials
+  std::vector<Geometry> geometry; // union of shapes
+  int particles_per_cell = 2;     // per direction
+  Vec3a velocity{0.0, 0.0, 0.0};  // initial velocity
 };
 
 // A velocity condition on the grid nodes inside a box, optionally only for one body's field.
 struct BoundarySpec {
   std::string name;
-  int body = -1;                     // -1: every body
+  int body = -1; // -1: every body
   Vec3a min{-inf, -inf, -inf}, max{inf, inf, inf};
   std::array<bool, 3> fixed{false, false, false};
   Vec3a velocity{0.0, 0.0, 0.0};
@@ -75,15 +75,15 @@ struct ProbeSpec {
 };
 
 struct OutputSettings {
-  double every = 0.0;                // simulated seconds between frames and CSV rows (0: end only)
-  bool particles = true;             // write particles_NNNNNN.vtu
-  std::vector<std::string> fields;   // extra VTU fields; empty: all
+  double every = 0.0;              // simulated seconds between frames and CSV rows (0: end only)
+  bool particles = true;           // write particles_NNNNNN.vtu
+  std::vector<std::string> fields; // extra VTU fields; empty: all
 };
 
 struct Case {
   std::string title;
-  std::string file;                  // path of the case file as given
-  std::string text;                  // the case as run (overrides applied), TOML
+  std::string file; // path of the case file as given
+  std::string text; // the case as run (overrides applied), TOML
   SimulationSettings simulation;
   GridSettings grid;
   std::vector<Material> materials;

@@ -22,4 +22,7 @@ Particles<D> fill_particles(const Case& c);
 // Particle count without allocating (for `talus check` and memory estimates).
 std::size_t count_particles(const Case& c, std::size_t body);
 
+// Throws CaseError naming the body if `count` (its particle count) is zero.
+void require_particles(const Case& c, std::size_t body, std::size_t count);
+
 } // namespace talus

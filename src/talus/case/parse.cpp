@@ -14,7 +14,8 @@ namespace talus {
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t j = 0; j <= b.size(); ++j)
+    row[j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i) {
     std::size_t diag = row[0];
     row[0] = i;
@@ -57,7 +58,9 @@ public:
   TableReader(const toml::table& t, std::string path, const Where& where)
       : t_(t), path_(std::move(path)), where_(where) {}
 
-  std::string key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  std::string key_path(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
   const toml::node* find(const std::string& key) {
     known_.insert(key);
     return t_.get(key);
@@ -74,9 +77,11 @@ public:
   [[noreturn]] void fail_missing(const std::string& key) const {
     for (auto&& [k, v] : t_) {
       const std::string name(k.str());
-      if (!known_.count(name) && edit_distance(name, key) <= std::max<std::size_t>(2, key.size() / 3))
-        where_.fail(t_.source(), key_path(key),
-                    fmt::format("required key is missing (line {} has '{}')", v.source().begin.line, name));
+      if (!known_.count(name) &&
+          edit_distance(name, key) <= std::max<std::size_t>(2, key.size() / 3))
+        where_.fail(
+            t_.source(), key_path(key),
+            fmt::format("required key is missing (line {} has '{}')", v.source().begin.line, name));
     }
     where_.fail(t_.source(), key_path(key), "required key is missing");
   }
@@ -86,7 +91,9 @@ public:
     if (!n) fail_missing(key);
     return as_number(*n, key);
   }
-  double number(const std::string& key, double fallback) { return has(key) ? number(key) : fallback; }
+  double number(const std::string& key, double fallback) {
+    return has(key) ? number(key) : fallback;
+  }
   std::optional<double> optional_number(const std::string& key) {
     if (!has(key)) return std::nullopt;
     return number(key);
@@ -118,7 +125,8 @@ public:
     const std::string s = string(key, fallback);
     if (std::find(choices.begin(), choices.end(), s) == choices.end()) {
       std::string list;
-      for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+      for (const auto& c : choices)
+        list += (list.empty() ? "" : ", ") + c;
       fail(key, fmt::format("'{}' is not one of: {}{}", s, list, suggest(s, choices)));
     }
     return s;
@@ -171,18 +179,26 @@ public:
       where_.fail(node.source(), key_path(key),
                   fmt::format("expected an array of {} numbers (one per dimension)", n));
     Vec3a v{0.0, 0.0, 0.0};
-    for (int i = 0; i < n; ++i) v[i] = as_number(*a->get(i), fmt::format("{}[{}]", key, i));
+    for (int i = 0; i < n; ++i)
+      v[i] = as_number(*a->get(i), fmt::format("{}[{}]", key, i));
     return v;
   }
   static std::string type_name(const toml::node& n) {
     switch (n.type()) {
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a number";
-    case toml::node_type::boolean: return "a boolean";
-    default: return "a date or time";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    default:
+      return "a date or time";
     }
   }
   const Where& where() const { return where_; }
@@ -241,7 +257,8 @@ GridSettings read_grid(TableReader& r, int dim) {
   GridSettings g;
   g.origin = r.vector("origin", dim, Vec3a{0.0, 0.0, 0.0});
   g.extent = r.vector("extent", dim);
-  for (int d = 0; d < dim; ++d) require(r, "extent", g.extent[d] > 0.0, "every extent must be > 0 m");
+  for (int d = 0; d < dim; ++d)
+    require(r, "extent", g.extent[d] > 0.0, "every extent must be > 0 m");
   g.cell_size = r.number("cell_size");
   require(r, "cell_size", g.cell_size > 0.0, "must be > 0 m");
   for (int d = 0; d < dim; ++d) {
@@ -257,7 +274,7 @@ GridSettings read_grid(TableReader& r, int dim) {
     const char* names[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
     for (int f = 0; f < 2 * dim; ++f) {
       const std::string c = b.choice(names[f], {"free", "fixed", "slip"}, "free");
-      g.faces[f] = c == "fixed" ? FaceCondition::fixed
+      g.faces[f] = c == "fixed"  ? FaceCondition::fixed
                    : c == "slip" ? FaceCondition::slip
                                  : FaceCondition::free;
     }
@@ -287,7 +304,8 @@ int lookup(TableReader& r, const std::string& key, const std::vector<std::string
            const std::string& what) {
   const std::string s = r.string(key);
   const auto it = std::find(names.begin(), names.end(), s);
-  if (it == names.end()) r.fail(key, fmt::format("no {} is named '{}'{}", what, s, suggest(s, names)));
+  if (it == names.end())
+    r.fail(key, fmt::format("no {} is named '{}'{}", what, s, suggest(s, names)));
   return static_cast<int>(it - names.begin());
 }
 
@@ -308,7 +326,8 @@ Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& bas
     TableReader b(*t, r.key_path("box"), r.where());
     g.min = b.vector("min", dim);
     g.max = b.vector("max", dim);
-    for (int d = 0; d < dim; ++d) require(b, "max", g.max[d] > g.min[d], "max must exceed min in every direction");
+    for (int d = 0; d < dim; ++d)
+      require(b, "max", g.max[d] > g.min[d], "max must exceed min in every direction");
     b.finish();
   } else if (kind == "polygon") {
     if (dim != 2) r.fail("polygon", "polygons are 2D; use box or sphere in 3D");
@@ -355,14 +374,18 @@ Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& bas
 // Bounding box of a geometry (first dim components meaningful).
 void bounds(const Geometry& g, int dim, Vec3a& lo, Vec3a& hi) {
   switch (g.kind) {
-  case Geometry::Kind::box: lo = g.min, hi = g.max; break;
+  case Geometry::Kind::box:
+    lo = g.min, hi = g.max;
+    break;
   case Geometry::Kind::disk:
-    for (int d = 0; d < dim; ++d) lo[d] = g.center[d] - g.radius, hi[d] = g.center[d] + g.radius;
+    for (int d = 0; d < dim; ++d)
+      lo[d] = g.center[d] - g.radius, hi[d] = g.center[d] + g.radius;
     break;
   case Geometry::Kind::polygon:
     lo = {inf, inf, 0.0}, hi = {-inf, -inf, 0.0};
     for (const auto& v : g.vertices)
-      for (int d = 0; d < 2; ++d) lo[d] = std::min(lo[d], v[d]), hi[d] = std::max(hi[d], v[d]);
+      for (int d = 0; d < 2; ++d)
+        lo[d] = std::min(lo[d], v[d]), hi[d] = std::max(hi[d], v[d]);
     break;
   }
 }
@@ -376,7 +399,8 @@ void apply_override(toml::table& doc, const std::string& spec, const std::string
   const std::string text = spec.substr(eq + 1);
   std::vector<std::string> keys;
   std::stringstream ss(path);
-  for (std::string k; std::getline(ss, k, '.');) keys.push_back(k);
+  for (std::string k; std::getline(ss, k, '.');)
+    keys.push_back(k);
   toml::node* node = &doc;
   std::string walked;
   for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
@@ -388,7 +412,8 @@ void apply_override(toml::table& doc, const std::string& spec, const std::string
     } else if (auto* a = node->as_array()) {
       for (std::size_t j = 0; j < a->size() && !next; ++j) {
         auto* e = a->get(j)->as_table();
-        if (std::to_string(j) == keys[i] || (e && e->get("name") && e->get("name")->value<std::string>() == keys[i]))
+        if (std::to_string(j) == keys[i] ||
+            (e && e->get("name") && e->get("name")->value<std::string>() == keys[i]))
           next = a->get(j);
       }
     }
@@ -430,7 +455,8 @@ std::vector<std::array<double, 2>> read_polygon_csv(const std::string& path) {
     }
     if (!ok) {
       if (v.empty() && !first_ok) continue; // header line such as "x,z"
-      throw CaseError(fmt::format("{}:{}: expected two numbers 'x,y', got '{}'", path, lineno, line));
+      throw CaseError(
+          fmt::format("{}:{}: expected two numbers 'x,y', got '{}'", path, lineno, line));
     }
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
       throw CaseError(fmt::format("{}:{}: coordinates must be finite", path, lineno));
@@ -448,7 +474,8 @@ Case parse_case_text(const std::string& text, const std::string& path,
   } catch (const toml::parse_error& e) {
     throw CaseError(fmt::format("{}:{}: {}", path, e.source().begin.line, e.description()));
   }
-  for (const auto& o : overrides) apply_override(doc, o, path);
+  for (const auto& o : overrides)
+    apply_override(doc, o, path);
 
   Where where{path};
   const std::filesystem::path base_dir = std::filesystem::path(path).parent_path();
@@ -486,7 +513,8 @@ Case parse_case_text(const std::string& text, const std::string& path,
   for_each_entry(root, "body", [&](TableReader& r, std::size_t) {
     BodySpec b;
     b.name = r.string("name");
-    if (std::count(body_names.begin(), body_names.end(), b.name)) r.fail("name", "two bodies have this name");
+    if (std::count(body_names.begin(), body_names.end(), b.name))
+      r.fail("name", "two bodies have this name");
     b.material = lookup(r, "material", material_names, "material");
     b.geometry.push_back(read_geometry(r, dim, base_dir));
     b.particles_per_cell = static_cast<int>(r.integer("particles_per_cell", 2));
@@ -499,8 +527,8 @@ Case parse_case_text(const std::string& text, const std::string& path,
       const double g0 = c.grid.origin[d], g1 = g0 + c.grid.extent[d];
       if (lo[d] < g0 || hi[d] > g1)
         r.fail(b.geometry[0].kind == Geometry::Kind::polygon ? "polygon"
-               : b.geometry[0].kind == Geometry::Kind::box  ? "box"
-                                                            : (dim == 2 ? "disk" : "sphere"),
+               : b.geometry[0].kind == Geometry::Kind::box   ? "box"
+                                                             : (dim == 2 ? "disk" : "sphere"),
                fmt::format("the body reaches outside the grid along {} ([{}, {}] is not inside "
                            "[{}, {}])",
                            "xyz"[d], lo[d], hi[d], g0, g1));
@@ -521,7 +549,8 @@ Case parse_case_text(const std::string& text, const std::string& path,
       if (r.has(comps[d])) b.fixed[d] = true, b.velocity[d] = r.number(comps[d]);
     if (r.has("velocity")) {
       b.velocity = r.vector("velocity", dim);
-      for (int d = 0; d < dim; ++d) b.fixed[d] = true;
+      for (int d = 0; d < dim; ++d)
+        b.fixed[d] = true;
     }
     if (!b.fixed[0] && !b.fixed[1] && !b.fixed[2])
       r.fail("velocity", "a boundary must set velocity or at least one of velocity_x/_y/_z");
@@ -542,13 +571,15 @@ Case parse_case_text(const std::string& text, const std::string& path,
     require(ro, "every", c.output.every >= 0.0, "must be >= 0 s");
     c.output.particles = ro.boolean("particles", true);
     if (const toml::array* f = ro.array("fields")) {
-      const std::vector<std::string> known = {"velocity", "stress", "displacement", "mass",
-                                              "volume", "plastic_strain", "body", "material"};
+      const std::vector<std::string> known = {"velocity", "stress",  "displacement",
+                                              "mass",     "volume",  "plastic_strain",
+                                              "body",     "material"};
       for (std::size_t i = 0; i < f->size(); ++i) {
         const auto s = f->get(i)->value<std::string>();
         if (!s || std::find(known.begin(), known.end(), *s) == known.end())
-          ro.where().fail(f->get(i)->source(), fmt::format("output.fields[{}]", i),
-                          fmt::format("unknown field '{}'{}", s.value_or("?"), suggest(s.value_or(""), known)));
+          ro.where().fail(
+              f->get(i)->source(), fmt::format("output.fields[{}]", i),
+              fmt::format("unknown field '{}'{}", s.value_or("?"), suggest(s.value_or(""), known)));
         c.output.fields.push_back(*s);
       }
     }

@@ -24,8 +24,10 @@ inline Voigt elastic_increment(double K, double G, const Voigt& deps) {
   const double vol = deps[0] + deps[1] + deps[2];
   Voigt ds;
   const double lambda = K - 2.0 / 3.0 * G;
-  for (int i = 0; i < 3; ++i) ds[i] = lambda * vol + 2.0 * G * deps[i];
-  for (int i = 3; i < 6; ++i) ds[i] = 2.0 * G * deps[i];
+  for (int i = 0; i < 3; ++i)
+    ds[i] = lambda * vol + 2.0 * G * deps[i];
+  for (int i = 3; i < 6; ++i)
+    ds[i] = 2.0 * G * deps[i];
   return ds;
 }
 
@@ -33,7 +35,8 @@ inline Voigt elastic_increment(double K, double G, const Voigt& deps) {
 inline void update_stress(const LinearElastic& mat, Voigt& sigma, const Mat3& D, const Mat3& W,
                           double dt) {
   const Voigt deps = to_voigt(D * dt);
-  sigma += jaumann_spin_term(sigma, W) * dt + elastic_increment(mat.bulk_modulus(), mat.shear_modulus(), deps);
+  sigma += jaumann_spin_term(sigma, W) * dt +
+           elastic_increment(mat.bulk_modulus(), mat.shear_modulus(), deps);
 }
 
 } // namespace talus

@@ -14,14 +14,16 @@ namespace {
 template <int D>
 std::string components(const char* prefix, const char* suffix = "") {
   std::string s;
-  for (int d = 0; d < D; ++d) s += fmt::format(",{}{}{}", prefix, "xyz"[d], suffix);
+  for (int d = 0; d < D; ++d)
+    s += fmt::format(",{}{}{}", prefix, "xyz"[d], suffix);
   return s;
 }
 
 template <int D>
 std::string join(const Vec<D>& v) {
   std::string s;
-  for (int d = 0; d < D; ++d) s += fmt::format(",{:.10g}", v[d]);
+  for (int d = 0; d < D; ++d)
+    s += fmt::format(",{:.10g}", v[d]);
   return s;
 }
 
@@ -31,12 +33,14 @@ template <int D>
 RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::move(dir)) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
-  if (ec) throw OutputError(fmt::format("{}: cannot create the run folder: {}", dir_, ec.message()));
+  if (ec)
+    throw OutputError(fmt::format("{}: cannot create the run folder: {}", dir_, ec.message()));
   write_file_atomic(dir_ + "/case.toml", sim.case_().text);
   const Case& c = sim.case_();
   for (const ProbeSpec& pr : c.probes) {
     Vec<D> near;
-    for (int d = 0; d < D; ++d) near[d] = pr.near[d];
+    for (int d = 0; d < D; ++d)
+      near[d] = pr.near[d];
     probe_ids_.push_back(sim.particles().id[sim.nearest_particle(pr.body, near)]);
   }
   energy_ = "time,step,dt,kinetic_energy" + components<D>("momentum_") + "\n";
@@ -66,22 +70,24 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
     }
     ke_total += ke;
     mom_total += mv;
-    bodies_ += fmt::format("{:.10g},{},{:.10g}{}{},{:.10g},{:.10g},{:.10g}\n", t, c.bodies[b].name,
-                           mass, join<D>(mx / mass), join<D>(mv / mass), speed_sum / mass,
-                           max_speed, ke);
+    bodies_ +=
+        fmt::format("{:.10g},{},{:.10g}{}{},{:.10g},{:.10g},{:.10g}\n", t, c.bodies[b].name, mass,
+                    join<D>(mx / mass), join<D>(mv / mass), speed_sum / mass, max_speed, ke);
   }
   energy_ += fmt::format("{:.10g},{},{:.10g},{:.10g}{}\n", t, sim.steps(), sim.last_dt(), ke_total,
                          join<D>(mom_total));
   for (std::size_t k = 0; k < probe_ids_.size(); ++k) {
     std::size_t p = 0;
-    while (P.id[p] != probe_ids_[k]) ++p;
+    while (P.id[p] != probe_ids_[k])
+      ++p;
     probes_ += fmt::format("{:.10g},{}{}{},{:.10g},{:.10g}\n", t, c.probes[k].name, join<D>(P.x[p]),
                            join<D>(P.v[p]), P.v[p].norm(), (P.x[p] - P.x0[p]).norm());
   }
   if (c.output.particles) {
     const std::string name = fmt::format("particles_{:06d}.vtu", frames_.size());
     std::vector<int> mats;
-    for (const BodySpec& b : c.bodies) mats.push_back(b.material);
+    for (const BodySpec& b : c.bodies)
+      mats.push_back(b.material);
     write_file_atomic(dir_ + "/" + name, particles_to_vtu<D>(P, mats, VtuFields{c.output.fields}));
     frames_.emplace_back(t, name);
     write_file_atomic(dir_ + "/particles.pvd", pvd_collection(frames_));
@@ -114,7 +120,9 @@ void RunWriter<D>::write_summary(const Simulation<D>& sim, const std::string& st
   j["wall_seconds"] = wall_seconds;
   j["stepping_seconds"] = stepping_seconds;
   j["particle_updates_per_second"] =
-      stepping_seconds > 0 ? static_cast<double>(P.size()) * static_cast<double>(sim.steps()) / stepping_seconds : 0.0;
+      stepping_seconds > 0
+          ? static_cast<double>(P.size()) * static_cast<double>(sim.steps()) / stepping_seconds
+          : 0.0;
   j["threads"] = threads;
   j["status"] = status;
   if (!message.empty()) j["message"] = message;

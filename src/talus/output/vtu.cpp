@@ -55,7 +55,8 @@ std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body
   auto vec3 = [&](auto get) {
     std::vector<double> a(3 * n, 0.0);
     for (std::size_t p = 0; p < n; ++p)
-      for (int d = 0; d < D; ++d) a[3 * p + d] = get(p)[d];
+      for (int d = 0; d < D; ++d)
+        a[3 * p + d] = get(p)[d];
     return a;
   };
   std::string out;
@@ -67,7 +68,8 @@ std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body
   out += "      </Points>\n      <Cells>\n";
   std::vector<std::int64_t> conn(n), offsets(n);
   std::vector<std::uint8_t> types(n, 1); // VTK_VERTEX
-  for (std::size_t p = 0; p < n; ++p) conn[p] = static_cast<std::int64_t>(p), offsets[p] = static_cast<std::int64_t>(p + 1);
+  for (std::size_t p = 0; p < n; ++p)
+    conn[p] = static_cast<std::int64_t>(p), offsets[p] = static_cast<std::int64_t>(p + 1);
   data_array(out, "Int64", "connectivity", 1, conn);
   data_array(out, "Int64", "offsets", 1, offsets);
   data_array(out, "UInt8", "types", 1, types);
@@ -80,14 +82,17 @@ std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body
   data_array(out, "Int32", "body", 1, body);
   if (fields.wants("material")) data_array(out, "Int32", "material", 1, material);
   data_array(out, "UInt32", "id", 1, P.id);
-  if (fields.wants("velocity")) data_array(out, "Float64", "velocity", 3, vec3([&](std::size_t p) { return P.v[p]; }));
+  if (fields.wants("velocity"))
+    data_array(out, "Float64", "velocity", 3, vec3([&](std::size_t p) { return P.v[p]; }));
   if (fields.wants("displacement"))
-    data_array(out, "Float64", "displacement", 3, vec3([&](std::size_t p) { return Vec<D>(P.x[p] - P.x0[p]); }));
+    data_array(out, "Float64", "displacement", 3,
+               vec3([&](std::size_t p) { return Vec<D>(P.x[p] - P.x0[p]); }));
   if (fields.wants("stress")) {
     // VTK's symmetric tensor order: xx, yy, zz, xy, yz, xz (ours).
     std::vector<double> s(6 * n);
     for (std::size_t p = 0; p < n; ++p)
-      for (int k = 0; k < 6; ++k) s[6 * p + k] = P.stress[p][k];
+      for (int k = 0; k < 6; ++k)
+        s[6 * p + k] = P.stress[p][k];
     data_array(out, "Float64", "stress", 6, s);
   }
   if (fields.wants("mass")) data_array(out, "Float64", "mass", 1, P.m);
@@ -106,7 +111,9 @@ std::string pvd_collection(const std::vector<std::pair<double, std::string>>& fr
   return out;
 }
 
-template std::string particles_to_vtu<2>(const Particles<2>&, const std::vector<int>&, const VtuFields&);
-template std::string particles_to_vtu<3>(const Particles<3>&, const std::vector<int>&, const VtuFields&);
+template std::string particles_to_vtu<2>(const Particles<2>&, const std::vector<int>&,
+                                         const VtuFields&);
+template std::string particles_to_vtu<3>(const Particles<3>&, const std::vector<int>&,
+                                         const VtuFields&);
 
 } // namespace talus
