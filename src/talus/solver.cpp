@@ -288,8 +288,8 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
       if (!(J > 0.0)) record_bad(bad, static_cast<std::size_t>(p));
       P.vol[p] = P.vol0[p] * J;
       const Mat3 L3 = embed<D>(L);
-      update_stress(*model, P.stress[p], 0.5 * (L3 + L3.transpose()), 0.5 * (L3 - L3.transpose()),
-                    dt);
+      update_stress(*model, P.stress[p], P.eps_p[p], 0.5 * (L3 + L3.transpose()),
+                    0.5 * (L3 - L3.transpose()), dt);
     }
   }
   if (const std::size_t p = bad.load(); p != P.size())

@@ -12,11 +12,12 @@ const LinearElastic rock{2500.0, 50e6, 0.25};
 
 TEST(LinearElastic, UniaxialStrainGivesTheConstrainedModulus) {
   Voigt sigma = Voigt::Zero();
+  double eps_p = 0.0;
   Mat3 D = Mat3::Zero();
   D(0, 0) = -1e-3; // strain rate
   const double dt = 0.01;
   for (int i = 0; i < 100; ++i)
-    update_stress(rock, sigma, D, Mat3::Zero(), dt);
+    update_stress(rock, sigma, eps_p, D, Mat3::Zero(), dt);
   const double eps = -1e-3; // total strain
   const double K = rock.bulk_modulus(), G = rock.shear_modulus();
   EXPECT_NEAR(sigma[0], (K + 4.0 / 3.0 * G) * eps, 1e-9 * std::abs(K * eps));
@@ -28,9 +29,10 @@ TEST(LinearElastic, UniaxialStrainGivesTheConstrainedModulus) {
 
 TEST(LinearElastic, PureShearGivesTwiceTheShearModulus) {
   Voigt sigma = Voigt::Zero();
+  double eps_p = 0.0;
   Mat3 D = Mat3::Zero();
   D(0, 1) = D(1, 0) = 2e-3;
-  update_stress(rock, sigma, D, Mat3::Zero(), 0.5);
+  update_stress(rock, sigma, eps_p, D, Mat3::Zero(), 0.5);
   EXPECT_NEAR(sigma[3], 2.0 * rock.shear_modulus() * 1e-3, 1e-6);
   EXPECT_NEAR(sigma[0], 0.0, 1e-9);
 }
@@ -40,6 +42,7 @@ TEST(LinearElastic, PureShearGivesTwiceTheShearModulus) {
 TEST(LinearElastic, RigidRotationByNinetyDegreesSwapsTheStress) {
   const double s0 = 1e6;
   Voigt sigma = Voigt::Zero();
+  double eps_p = 0.0;
   sigma[0] = s0;
   const double omega = 1.0; // rad/s, counter-clockwise
   Mat3 W = Mat3::Zero();
@@ -48,7 +51,7 @@ TEST(LinearElastic, RigidRotationByNinetyDegreesSwapsTheStress) {
   const int steps = 2000;
   const double dt = std::numbers::pi / 2.0 / omega / steps;
   for (int i = 0; i < steps; ++i)
-    update_stress(rock, sigma, Mat3::Zero(), W, dt);
+    update_stress(rock, sigma, eps_p, Mat3::Zero(), W, dt);
   EXPECT_NEAR(sigma[0], 0.0, 0.01 * s0);
   EXPECT_NEAR(sigma[1], s0, 0.01 * s0);
   EXPECT_NEAR(sigma[3], 0.0, 0.01 * s0);
@@ -57,13 +60,14 @@ TEST(LinearElastic, RigidRotationByNinetyDegreesSwapsTheStress) {
 TEST(LinearElastic, HalfwayThroughTheRotationTheStressIsTheRotatedTensor) {
   const double s0 = 1e6, theta = std::numbers::pi / 4.0;
   Voigt sigma = Voigt::Zero();
+  double eps_p = 0.0;
   sigma[0] = s0;
   Mat3 W = Mat3::Zero();
   W(0, 1) = -1.0;
   W(1, 0) = 1.0;
   const int steps = 4000;
   for (int i = 0; i < steps; ++i)
-    update_stress(rock, sigma, Mat3::Zero(), W, theta / steps);
+    update_stress(rock, sigma, eps_p, Mat3::Zero(), W, theta / steps);
   // R diag(s0, 0) R^T at 45 degrees: xx = yy = xy = s0 / 2.
   EXPECT_NEAR(sigma[0], s0 * std::cos(theta) * std::cos(theta), 1e-3 * s0);
   EXPECT_NEAR(sigma[1], s0 * std::sin(theta) * std::sin(theta), 1e-3 * s0);

@@ -283,19 +283,60 @@ GridSettings read_grid(TableReader& r, int dim) {
   return g;
 }
 
+constexpr double degrees = 3.14159265358979323846 / 180.0;
+
+// Strength of the Mohr-Coulomb family in engineers' terms: angles in degrees, stresses in Pa.
+MohrCoulombStrength read_strength(TableReader& r) {
+  MohrCoulombStrength s;
+  const double phi = r.number("friction_angle");
+  require(r, "friction_angle", phi >= 0.0 && phi < 90.0, "must be in [0, 90) degrees");
+  const double psi = r.number("dilation_angle", 0.0);
+  require(r, "dilation_angle", psi >= 0.0 && psi <= phi, "must be in [0, friction_angle] degrees");
+  s.friction_angle = phi * degrees;
+  s.dilation_angle = psi * degrees;
+  s.cohesion = r.number("cohesion", 0.0);
+  require(r, "cohesion", s.cohesion >= 0.0, "must be >= 0 Pa");
+  s.tension_cutoff = r.number("tension_cutoff", inf);
+  require(r, "tension_cutoff", s.tension_cutoff >= 0.0, "must be >= 0 Pa");
+  require(r, "friction_angle", phi > 0.0 || s.cohesion > 0.0,
+          "a material with no friction needs cohesion");
+  if (r.has("softening_strain")) {
+    s.softening_strain = r.number("softening_strain");
+    require(r, "softening_strain", s.softening_strain > 0.0, "must be > 0");
+    s.residual_cohesion = r.number("residual_cohesion", s.cohesion);
+    require(r, "residual_cohesion", s.residual_cohesion >= 0.0 && s.residual_cohesion <= s.cohesion,
+            "must be in [0, cohesion] Pa");
+    const double phi_r = r.number("residual_friction_angle", phi);
+    require(r, "residual_friction_angle", phi_r > 0.0 && phi_r <= phi,
+            "must be in (0, friction_angle] degrees");
+    s.residual_friction_angle = phi_r * degrees;
+  }
+  return s;
+}
+
 Material read_material(TableReader& r) {
   Material m;
   m.name = r.string("name");
-  const std::string model = r.choice("model", {"linear_elastic"}, "linear_elastic");
-  LinearElastic e;
-  e.density = r.number("density");
-  require(r, "density", e.density > 0.0, "must be > 0 kg/m^3");
-  e.youngs_modulus = r.number("youngs_modulus");
-  require(r, "youngs_modulus", e.youngs_modulus > 0.0, "must be > 0 Pa");
-  e.poisson_ratio = r.number("poisson_ratio");
-  require(r, "poisson_ratio", e.poisson_ratio >= 0.0 && e.poisson_ratio < 0.5,
-          "must be in [0, 0.5)");
-  m.model = e;
+  const std::string model =
+      r.choice("model", {"linear_elastic", "drucker_prager", "mohr_coulomb"}, "linear_elastic");
+  const double density = r.number("density");
+  require(r, "density", density > 0.0, "must be > 0 kg/m^3");
+  const double E = r.number("youngs_modulus");
+  require(r, "youngs_modulus", E > 0.0, "must be > 0 Pa");
+  const double nu = r.number("poisson_ratio");
+  require(r, "poisson_ratio", nu >= 0.0 && nu < 0.5, "must be in [0, 0.5)");
+  if (model == "linear_elastic") {
+    m.model = LinearElastic{density, E, nu};
+  } else if (model == "drucker_prager") {
+    DruckerPrager dp{density, E, nu, DruckerPragerMatch::inner, read_strength(r)};
+    const std::string match = r.choice("match", {"inner", "outer", "plane_strain"}, "inner");
+    dp.match = match == "outer"          ? DruckerPragerMatch::outer
+               : match == "plane_strain" ? DruckerPragerMatch::plane_strain
+                                         : DruckerPragerMatch::inner;
+    m.model = dp;
+  } else {
+    m.model = MohrCoulomb{density, E, nu, read_strength(r)};
+  }
   return m;
 }
 

@@ -32,8 +32,8 @@ inline Voigt elastic_increment(double K, double G, const Voigt& deps) {
 }
 
 // sigma^{n+1} = sigma^n + dt (C:D + W sigma - sigma W), eq. 27-28.
-inline void update_stress(const LinearElastic& mat, Voigt& sigma, const Mat3& D, const Mat3& W,
-                          double dt) {
+inline void update_stress(const LinearElastic& mat, Voigt& sigma, double& /*eps_p*/, const Mat3& D,
+                          const Mat3& W, double dt) {
   const Voigt deps = to_voigt(D * dt);
   sigma += jaumann_spin_term(sigma, W) * dt +
            elastic_increment(mat.bulk_modulus(), mat.shear_modulus(), deps);

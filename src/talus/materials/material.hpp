@@ -2,14 +2,16 @@
 // step and runs a loop specialised for that model, so no particle ever pays for a virtual call.
 #pragma once
 
+#include "talus/materials/drucker_prager.hpp"
 #include "talus/materials/linear_elastic.hpp"
+#include "talus/materials/mohr_coulomb.hpp"
 
 #include <string>
 #include <variant>
 
 namespace talus {
 
-using MaterialModel = std::variant<LinearElastic>;
+using MaterialModel = std::variant<LinearElastic, DruckerPrager, MohrCoulomb>;
 
 struct Material {
   std::string name;

@@ -1,0 +1,121 @@
+// Mohr-Coulomb elastoplasticity returned in principal stress space (de Souza Neto et al. 2008,
+// ch. 8): main plane, left and right edges, and apex, with non-associated flow (dilation angle
+// psi) and a Rankine tension cut-off on the major principal stress. Tension positive; principal
+// stresses ordered s1 >= s2 >= s3. The planes are linear, so each return is exact to round-off.
+#pragma once
+
+#include "talus/materials/plasticity.hpp"
+
+#include <Eigen/Eigenvalues>
+
+namespace talus {
+
+struct MohrCoulomb {
+  double density = 0.0;
+  double youngs_modulus = 0.0;
+  double poisson_ratio = 0.0;
+  MohrCoulombStrength strength;
+
+  double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
+  double bulk_modulus() const { return youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio)); }
+  double p_wave_modulus() const { return bulk_modulus() + 4.0 / 3.0 * shear_modulus(); }
+};
+
+namespace mc_detail {
+
+using V3 = Eigen::Vector3d;
+
+// Principal-space elasticity: D x = lambda tr(x) (1,1,1) + 2 G x.
+inline V3 apply_elastic(double K, double G, const V3& x) {
+  return V3::Constant((K - 2.0 / 3.0 * G) * x.sum()) + 2.0 * G * x;
+}
+
+// One linear yield plane a . s - b <= 0 with flow direction n (principal space).
+struct Plane {
+  V3 a, n;
+  double b;
+  double value(const V3& s) const { return a.dot(s) - b; }
+};
+
+// Multi-surface return onto the active planes (1 or 2), solving the consistency equations.
+// Returns false if a multiplier is negative (wrong set of active planes).
+inline bool return_to_planes(double K, double G, const Plane* planes, int n, V3& s) {
+  if (n == 1) {
+    const V3 Dn = apply_elastic(K, G, planes[0].n);
+    const double dg = planes[0].value(s) / planes[0].a.dot(Dn);
+    if (dg < 0.0) return false;
+    s -= dg * Dn;
+    return true;
+  }
+  const V3 D0 = apply_elastic(K, G, planes[0].n), D1 = apply_elastic(K, G, planes[1].n);
+  Eigen::Matrix2d A;
+  A << planes[0].a.dot(D0), planes[0].a.dot(D1), planes[1].a.dot(D0), planes[1].a.dot(D1);
+  const Eigen::Vector2d f(planes[0].value(s), planes[1].value(s));
+  const Eigen::Vector2d dg = A.partialPivLu().solve(f);
+  if (dg[0] < 0.0 || dg[1] < 0.0) return false;
+  s -= dg[0] * D0 + dg[1] * D1;
+  return true;
+}
+
+} // namespace mc_detail
+
+// Returns the trial stress to the Mohr-Coulomb surface with tension cut-off; returns the
+// equivalent plastic strain increment (0 if elastic).
+inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, double eps_p) {
+  using mc_detail::Plane;
+  using mc_detail::V3;
+  double c, phi;
+  mat.strength.current(eps_p, c, phi);
+  const double sp = std::sin(phi), cp = std::cos(phi), sd = std::sin(mat.strength.dilation_angle);
+  const double K = mat.bulk_modulus(), G = mat.shear_modulus();
+
+  Eigen::SelfAdjointEigenSolver<Mat3> eig;
+  eig.computeDirect(to_tensor(sigma));
+  // Eigen sorts ascending; we want s1 >= s2 >= s3.
+  const V3 trial(eig.eigenvalues()[2], eig.eigenvalues()[1], eig.eigenvalues()[0]);
+  const double t = std::min(mat.strength.tension_cutoff, sp > 0.0 ? c * cp / sp : mat.strength.tension_cutoff);
+
+  // Planes of the sextant s1 >= s2 >= s3: main (s1, s3), right edge partner (s2, s3), left edge
+  // partner (s1, s2), and the tension cut-offs on s1 and s2.
+  const Plane main{V3(1 + sp, 0, -(1 - sp)), V3(1 + sd, 0, -(1 - sd)), 2 * c * cp};
+  const Plane right{V3(0, 1 + sp, -(1 - sp)), V3(0, 1 + sd, -(1 - sd)), 2 * c * cp};
+  const Plane left{V3(1 + sp, -(1 - sp), 0), V3(1 + sd, -(1 - sd), 0), 2 * c * cp};
+  const Plane cut1{V3(1, 0, 0), V3(1, 0, 0), t};
+  const Plane cut2{V3(0, 1, 0), V3(0, 1, 0), t};
+  auto admissible = [&](const V3& s) {
+    const double tol = 1e-12 * (std::abs(s[0]) + std::abs(s[2]) + c + 1.0);
+    return s[0] >= s[1] - tol && s[1] >= s[2] - tol && main.value(s) <= tol && s[0] <= t + tol;
+  };
+  if (admissible(trial)) return 0.0;
+
+  // Try the active sets from the simplest; the first admissible result is the return.
+  V3 s;
+  const Plane sets[][2] = {{main, main}, {main, right}, {main, left}, {cut1, cut1},
+                           {cut1, main}, {cut1, cut2}};
+  const int sizes[] = {1, 2, 2, 1, 2, 2};
+  bool done = false;
+  for (int i = 0; i < 6 && !done; ++i) {
+    s = trial;
+    done = mc_detail::return_to_planes(K, G, sets[i], sizes[i], s) && admissible(s);
+  }
+  if (!done) {
+    // Apex: all principal stresses at the tip of the pyramid (or the cut-off), where the cone
+    // of the flow directions contains the trial point.
+    const double apex = std::min(t, sp > 0.0 ? c * cp / sp : t);
+    s = V3::Constant(apex);
+  }
+  const Mat3 R = eig.eigenvectors().rowwise().reverse();
+  const Mat3 out = R * s.asDiagonal() * R.transpose();
+  const Voigt trial_voigt = sigma;
+  sigma = to_voigt(out);
+  return plastic_strain_increment(K, G, trial_voigt, sigma);
+}
+
+inline void update_stress(const MohrCoulomb& mat, Voigt& sigma, double& eps_p, const Mat3& D,
+                          const Mat3& W, double dt) {
+  sigma += jaumann_spin_term(sigma, W) * dt +
+           elastic_increment(mat.bulk_modulus(), mat.shear_modulus(), to_voigt(D * dt));
+  eps_p += return_to_mohr_coulomb(mat, sigma, eps_p);
+}
+
+} // namespace talus
