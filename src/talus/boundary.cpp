@@ -3,8 +3,9 @@
 namespace talus {
 
 template <int D>
-std::vector<NodeCondition> build_node_conditions(const Case& c, const Grid<D>& grid) {
-  std::vector<NodeCondition> conds;
+GridConditions build_grid_conditions(const Case& c, const Grid<D>& grid) {
+  GridConditions gc;
+  auto& conds = gc.prescribed;
   // Domain faces: fixed constrains every component, slip the normal one.
   for (int d = 0; d < D; ++d) {
     for (int side = 0; side < 2; ++side) {
@@ -14,6 +15,10 @@ std::vector<NodeCondition> build_node_conditions(const Case& c, const Grid<D>& g
       const std::int64_t plane = side == 0 ? 0 : grid.nodes[d] - 1;
       for (std::int64_t n = 0; n < grid.num_nodes(); ++n)
         if (grid.node_coords(n)[d] == plane) nodes.push_back(n);
+      if (fc == FaceCondition::friction) {
+        gc.walls.push_back({nodes, d, side == 0 ? -1.0 : 1.0, c.grid.face_friction[2 * d + side]});
+        continue;
+      }
       for (int e = 0; e < D; ++e)
         if (fc == FaceCondition::fixed || e == d) conds.push_back({nodes, e, 0.0});
     }
@@ -32,10 +37,10 @@ std::vector<NodeCondition> build_node_conditions(const Case& c, const Grid<D>& g
     for (int d = 0; d < D; ++d)
       if (b.fixed[d]) conds.push_back({nodes, d, b.velocity[d]});
   }
-  return conds;
+  return gc;
 }
 
-template std::vector<NodeCondition> build_node_conditions<2>(const Case&, const Grid<2>&);
-template std::vector<NodeCondition> build_node_conditions<3>(const Case&, const Grid<3>&);
+template GridConditions build_grid_conditions<2>(const Case&, const Grid<2>&);
+template GridConditions build_grid_conditions<3>(const Case&, const Grid<3>&);
 
 } // namespace talus

@@ -5,6 +5,7 @@
 #include "talus/grid.hpp"
 #include "talus/nodes.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace talus {
@@ -16,16 +17,39 @@ struct NodeCondition {
   double velocity = 0.0;
 };
 
-// Expands the faces and the [[boundary]] boxes of a case into per-component node lists.
-template <int D>
-std::vector<NodeCondition> build_node_conditions(const Case& c, const Grid<D>& grid);
+// A Coulomb wall on a face of the domain: nodes moving into it lose their normal velocity and
+// up to mu times that much of their tangential velocity.
+struct FrictionWall {
+  std::vector<std::int64_t> nodes;
+  int axis = 0;
+  double outward = -1.0; // -1 on a min face, +1 on a max face
+  double mu = 0.0;
+};
 
-// Sets the constrained components of a velocity array.
+struct GridConditions {
+  std::vector<NodeCondition> prescribed;
+  std::vector<FrictionWall> walls;
+};
+
+// Expands the faces and the [[boundary]] boxes of a case into node lists.
 template <int D>
-void apply_node_conditions(const std::vector<NodeCondition>& conds, std::vector<Vec<D>>& velocity) {
-  for (const NodeCondition& nc : conds)
-    for (const std::int64_t n : nc.nodes)
-      velocity[n][nc.component] = nc.velocity;
+GridConditions build_grid_conditions(const Case& c, const Grid<D>& grid);
+
+// Applies the walls and then the prescribed components to a velocity array.
+template <int D>
+void apply_grid_conditions(const GridConditions& gc, std::vector<Vec<D>>& velocity) {
+  for (const FrictionWall& w : gc.walls) {
+    for (const std::int64_t n : w.nodes) {
+      Vec<D>& v = velocity[n];
+      const double v_in = w.outward * v[w.axis]; // > 0: moving into the wall
+      if (v_in <= 0.0) continue;
+      v[w.axis] = 0.0;
+      const double vt = v.norm();
+      if (vt > 0.0) v *= std::max(0.0, 1.0 - w.mu * v_in / vt);
+    }
+  }
+  for (const NodeCondition& nc : gc.prescribed)
+    for (const std::int64_t n : nc.nodes) velocity[n][nc.component] = nc.velocity;
 }
 
 } // namespace talus

@@ -49,7 +49,7 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     body_material_.push_back(c.materials[b.material]);
     body_lp_.push_back(0.5 * c.grid.cell_size / b.particles_per_cell);
   }
-  conditions_ = build_node_conditions<D>(c, grid_);
+  conditions_ = build_grid_conditions<D>(c, grid_);
   for (int d = 0; d < D; ++d)
     gravity_[d] = c.simulation.gravity[d];
   // Slab width: GIMP writes nodes [cell-1, cell+2], so slabs of 4 cells keep two slabs of one
@@ -216,7 +216,7 @@ void Simulation<D>::map_momentum_to_nodes() {
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i)
     N.v_remap[i] = N.m[i] > 0.0 ? Vec<D>(N.p[i] / N.m[i]) : Vec<D>::Zero();
-  apply_node_conditions<D>(conditions_, N.v_remap);
+  apply_grid_conditions<D>(conditions_, N.v_remap);
 }
 
 // Grid update, eq. 19-20: v^n = p/m and v^{n+1} = v^n + f/m dt, with local damping and the
@@ -240,8 +240,8 @@ void Simulation<D>::compute_node_velocities(double dt) {
         f[d] -= alpha * std::abs(f[d]) * (N.v[i][d] > 0.0 ? 1.0 : (N.v[i][d] < 0.0 ? -1.0 : 0.0));
     N.v_new[i] = N.v[i] + f / N.m[i] * dt;
   }
-  apply_node_conditions<D>(conditions_, N.v);
-  apply_node_conditions<D>(conditions_, N.v_new);
+  apply_grid_conditions<D>(conditions_, N.v);
+  apply_grid_conditions<D>(conditions_, N.v_new);
 }
 
 // G2P. With `velocity`, the particle velocity takes the FLIP/PIC blend of the grid change (eq. 22);

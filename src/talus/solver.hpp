@@ -83,7 +83,7 @@ private:
   NodeFields<D> nodes_;
   std::vector<Material> body_material_; // per body
   std::vector<double> body_lp_;         // GIMP half-width per body
-  std::vector<NodeCondition> conditions_;
+  GridConditions conditions_;
   Vec<D> gravity_ = Vec<D>::Zero();
 
   // Slab binning for the coloured scatter: particles of slab s and body b are

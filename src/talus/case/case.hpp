@@ -30,8 +30,9 @@ struct SimulationSettings {
   double damping = 0.0; // local (Cundall) damping fraction of the nodal force
 };
 
-// What a face of the domain does to the grid velocity.
-enum class FaceCondition { free, fixed, slip };
+// What a face of the domain does to the grid velocity: nothing, stop it, stop its normal
+// component (a roller), or a Coulomb wall (no penetration, tangential friction).
+enum class FaceCondition { free, fixed, slip, friction };
 
 struct GridSettings {
   Vec3a origin{0.0, 0.0, 0.0};
@@ -40,6 +41,7 @@ struct GridSettings {
   ShapeKind shape = ShapeKind::gimp;
   // x_min, x_max, y_min, y_max, z_min, z_max
   std::array<FaceCondition, 6> faces{};
+  std::array<double, 6> face_friction{}; // friction coefficient of `friction` faces
 };
 
 struct Geometry {

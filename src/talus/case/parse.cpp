@@ -273,6 +273,14 @@ GridSettings read_grid(TableReader& r, int dim) {
     TableReader b(*t, r.key_path("boundary"), r.where());
     const char* names[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
     for (int f = 0; f < 2 * dim; ++f) {
+      if (const toml::node* n = b.find(names[f]); n && n->is_table()) {
+        TableReader w(*n->as_table(), b.key_path(names[f]), r.where());
+        g.faces[f] = FaceCondition::friction;
+        g.face_friction[f] = w.number("friction");
+        require(w, "friction", g.face_friction[f] >= 0.0, "must be >= 0");
+        w.finish();
+        continue;
+      }
       const std::string c = b.choice(names[f], {"free", "fixed", "slip"}, "free");
       g.faces[f] = c == "fixed"  ? FaceCondition::fixed
                    : c == "slip" ? FaceCondition::slip
