@@ -49,7 +49,8 @@ void apply_grid_conditions(const GridConditions& gc, std::vector<Vec<D>>& veloci
     }
   }
   for (const NodeCondition& nc : gc.prescribed)
-    for (const std::int64_t n : nc.nodes) velocity[n][nc.component] = nc.velocity;
+    for (const std::int64_t n : nc.nodes)
+      velocity[n][nc.component] = nc.velocity;
 }
 
 } // namespace talus

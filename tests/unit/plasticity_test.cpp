@@ -21,8 +21,12 @@ MohrCoulombStrength strength(double phi_deg, double c, double psi_deg = 0.0, dou
   return s;
 }
 
-DruckerPrager dp(DruckerPragerMatch m, MohrCoulombStrength s) { return {2000, 50e6, 0.3, m, s}; }
-MohrCoulomb mc(MohrCoulombStrength s) { return {2000, 50e6, 0.3, s}; }
+DruckerPrager dp(DruckerPragerMatch m, MohrCoulombStrength s) {
+  return {2000, 50e6, 0.3, m, s};
+}
+MohrCoulomb mc(MohrCoulombStrength s) {
+  return {2000, 50e6, 0.3, s};
+}
 
 double dp_yield(const DruckerPrager& m, const Voigt& s) {
   double a, k;
@@ -51,7 +55,8 @@ Voigt isotropic(double p) {
 template <class M>
 Voigt drive(const M& m, Voigt sigma, const Mat3& D, int n, double* eps_p = nullptr) {
   double e = 0.0;
-  for (int i = 0; i < n; ++i) update_stress(m, sigma, e, D, Mat3::Zero(), 1.0);
+  for (int i = 0; i < n; ++i)
+    update_stress(m, sigma, e, D, Mat3::Zero(), 1.0);
   if (eps_p) *eps_p = e;
   return sigma;
 }
@@ -80,7 +85,8 @@ TEST(DruckerPrager, ElasticBelowYield) {
 // DP: q = sqrt(3) (k - 3 alpha p); MC: q = (2 c cos(phi) - 2 p sin(phi)) / (1 - sin(phi) / 3).
 TEST(DruckerPrager, TriaxialCompressionReachesThePeakOfEachMatching) {
   const double phi = 30, c = 20e3, p = -200e3;
-  for (auto match : {DruckerPragerMatch::inner, DruckerPragerMatch::outer, DruckerPragerMatch::plane_strain}) {
+  for (auto match :
+       {DruckerPragerMatch::inner, DruckerPragerMatch::outer, DruckerPragerMatch::plane_strain}) {
     const auto m = dp(match, strength(phi, c));
     double a, k;
     m.match_coefficients(phi * deg, c, a, k);
@@ -92,7 +98,8 @@ TEST(DruckerPrager, TriaxialCompressionReachesThePeakOfEachMatching) {
   // The outer cone touches Mohr-Coulomb on the compression meridian.
   double a, k;
   dp(DruckerPragerMatch::outer, strength(phi, c)).match_coefficients(phi * deg, c, a, k);
-  const double mc_peak = (2 * c * std::cos(phi * deg) - 2 * p * std::sin(phi * deg)) / (1 - std::sin(phi * deg) / 3);
+  const double mc_peak =
+      (2 * c * std::cos(phi * deg) - 2 * p * std::sin(phi * deg)) / (1 - std::sin(phi * deg) / 3);
   EXPECT_NEAR(std::sqrt(3.0) * (k - 3.0 * a * p), mc_peak, 1e-9 * mc_peak);
 }
 
@@ -101,7 +108,8 @@ TEST(MohrCoulomb, TriaxialCompressionReachesThePeak) {
   const auto m = mc(strength(phi, c));
   const Voigt s = drive(m, isotropic(p), triaxial_compression(1e-5), 400);
   const Eigen::Vector3d pr = principal(s);
-  const double peak = (2 * c * std::cos(phi * deg) - 2 * p * std::sin(phi * deg)) / (1 - std::sin(phi * deg) / 3);
+  const double peak =
+      (2 * c * std::cos(phi * deg) - 2 * p * std::sin(phi * deg)) / (1 - std::sin(phi * deg) / 3);
   EXPECT_NEAR(pr[0] - pr[2], peak, 1e-8 * peak);
   EXPECT_NEAR(pr[0], pr[1], 1e-8 * std::abs(p)); // on the edge s1 = s2 (compression meridian)
 }
@@ -111,7 +119,8 @@ TEST(MohrCoulomb, ClassicTriaxialAtConstantConfiningStress) {
   // surface; at the peak, sigma_a = (sigma_c (1 + sin phi) + 2 c cos phi) / (1 - sin phi).
   const double phi = 35, c = 50e3, sc = 100e3;
   const auto m = mc(strength(phi, c));
-  const double sa = (sc * (1 + std::sin(phi * deg)) + 2 * c * std::cos(phi * deg)) / (1 - std::sin(phi * deg));
+  const double sa =
+      (sc * (1 + std::sin(phi * deg)) + 2 * c * std::cos(phi * deg)) / (1 - std::sin(phi * deg));
   Voigt s = Voigt::Zero();
   s[0] = -sa, s[1] = s[2] = -sc; // exactly on the surface: elastic
   EXPECT_NEAR(mc_yield(m, s), 0.0, 1e-9 * sa);
@@ -176,7 +185,8 @@ TEST(Plasticity, EveryReturnLandsOnTheSurface) {
   int plastic_dp = 0, plastic_mc = 0;
   for (int i = 0; i < 5000; ++i) {
     Voigt trial;
-    for (int k = 0; k < 6; ++k) trial[k] = scale * (k < 3 ? u(rng) - 0.3 : 0.3 * u(rng));
+    for (int k = 0; k < 6; ++k)
+      trial[k] = scale * (k < 3 ? u(rng) - 0.3 : 0.3 * u(rng));
     Voigt s = trial;
     if (return_to_drucker_prager(d, s, 0.0) > 0.0) {
       ++plastic_dp;
@@ -202,7 +212,8 @@ TEST(Plasticity, EveryReturnLandsOnTheSurface) {
 Voigt plastic_strain(double K, double G, const Voigt& trial, const Voigt& s) {
   const Voigt ds = trial - s;
   Voigt e = deviator(ds) / (2 * G);
-  for (int i = 0; i < 3; ++i) e[i] += mean_stress(ds) / (3 * K);
+  for (int i = 0; i < 3; ++i)
+    e[i] += mean_stress(ds) / (3 * K);
   return e;
 }
 
@@ -220,11 +231,14 @@ TEST(DruckerPrager, FlowIsAssociatedOrIsochoric) {
     // Flow direction dg/dsigma = s / (2 sqrt(J2)) + alpha_psi I (shear terms as tensor components).
     const Voigt dev = deviator(trial);
     Voigt n = dev / (2 * std::sqrt(second_invariant(dev)));
-    for (int i = 0; i < 3; ++i) n[i] += a_psi;
+    for (int i = 0; i < 3; ++i)
+      n[i] += a_psi;
     const double cosine = e.dot(n) / (e.norm() * n.norm());
     EXPECT_NEAR(cosine, 1.0, 1e-10) << "psi " << psi;
-    if (psi == 0.0) EXPECT_NEAR(e[0] + e[1] + e[2], 0.0, 1e-12 * e.norm());
-    else EXPECT_GT(e[0] + e[1] + e[2], 0.0); // dilation
+    if (psi == 0.0)
+      EXPECT_NEAR(e[0] + e[1] + e[2], 0.0, 1e-12 * e.norm());
+    else
+      EXPECT_GT(e[0] + e[1] + e[2], 0.0); // dilation
   }
 }
 
@@ -236,7 +250,8 @@ TEST(MohrCoulomb, FlowIsAssociatedOrNonAssociated) {
     Voigt s = trial;
     return_to_mohr_coulomb(m, s, 0.0);
     const Voigt e = plastic_strain(m.bulk_modulus(), m.shear_modulus(), trial, s);
-    // Principal order: s1 = sigma_zz (-100e3), s3 = sigma_xx (-600e3). n = (1 + sin psi) e1 - (1 - sin psi) e3.
+    // Principal order: s1 = sigma_zz (-100e3), s3 = sigma_xx (-600e3). n = (1 + sin psi) e1 - (1 -
+    // sin psi) e3.
     const double sd = std::sin(psi * deg);
     EXPECT_NEAR(e[1], 0.0, 1e-12 * e.norm());
     EXPECT_NEAR(e[2] / e[0], -(1 + sd) / (1 - sd), 1e-9);

@@ -45,7 +45,8 @@ velocity = [{}, 0]
   const double x0 = centroid_x();
   // Two times while sliding and one after the stop (t = v0 / (mu g) = 0.68 s), each within 0.5 %.
   for (double t : {0.25, 0.5, 0.9}) {
-    while (sim.time() < t - 1e-12) sim.step(t - sim.time());
+    while (sim.time() < t - 1e-12)
+      sim.step(t - sim.time());
     const double t_stop = v0 / (mu * g);
     const double expected = t < t_stop ? v0 * t - 0.5 * mu * g * t * t : v0 * v0 / (2 * mu * g);
     const double got = centroid_x() - x0;

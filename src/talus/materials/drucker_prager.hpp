@@ -75,7 +75,8 @@ inline double return_to_drucker_prager(const DruckerPrager& mat, Voigt& sigma, d
   }
   if (p_new == p && q_new == q) return 0.0;
   Voigt out = (q > 0.0 ? q_new / q : 0.0) * s;
-  for (int i = 0; i < 3; ++i) out[i] += p_new;
+  for (int i = 0; i < 3; ++i)
+    out[i] += p_new;
   sigma = out;
   return plastic_strain_increment(K, G, trial, sigma);
 }

@@ -73,7 +73,8 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
   eig.computeDirect(to_tensor(sigma));
   // Eigen sorts ascending; we want s1 >= s2 >= s3.
   const V3 trial(eig.eigenvalues()[2], eig.eigenvalues()[1], eig.eigenvalues()[0]);
-  const double t = std::min(mat.strength.tension_cutoff, sp > 0.0 ? c * cp / sp : mat.strength.tension_cutoff);
+  const double t =
+      std::min(mat.strength.tension_cutoff, sp > 0.0 ? c * cp / sp : mat.strength.tension_cutoff);
 
   // Planes of the sextant s1 >= s2 >= s3: main (s1, s3), right edge partner (s2, s3), left edge
   // partner (s1, s2), and the tension cut-offs on s1 and s2.
@@ -90,8 +91,8 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
 
   // Try the active sets from the simplest; the first admissible result is the return.
   V3 s;
-  const Plane sets[][2] = {{main, main}, {main, right}, {main, left}, {cut1, cut1},
-                           {cut1, main}, {cut1, cut2}};
+  const Plane sets[][2] = {{main, main}, {main, right}, {main, left},
+                           {cut1, cut1}, {cut1, main},  {cut1, cut2}};
   const int sizes[] = {1, 2, 2, 1, 2, 2};
   bool done = false;
   for (int i = 0; i < 6 && !done; ++i) {

@@ -12,10 +12,12 @@
 namespace talus {
 
 struct MohrCoulombStrength {
-  double friction_angle = 0.0;           // phi, radians
-  double dilation_angle = 0.0;           // psi, radians
-  double cohesion = 0.0;                 // c, Pa
-  double tension_cutoff = std::numeric_limits<double>::infinity(); // on the mean stress (DP) or the major principal stress (MC), Pa
+  double friction_angle = 0.0; // phi, radians
+  double dilation_angle = 0.0; // psi, radians
+  double cohesion = 0.0;       // c, Pa
+  double tension_cutoff =
+      std::numeric_limits<double>::infinity(); // on the mean stress (DP) or the major principal
+                                               // stress (MC), Pa
   // Linear softening (eq. 47): c and phi move to their residual values as the equivalent
   // plastic strain goes from 0 to softening_strain. softening_strain = 0: no softening.
   double residual_cohesion = 0.0;
@@ -36,12 +38,14 @@ struct MohrCoulombStrength {
 
 // Equivalent plastic strain increment sqrt(2/3 deps_p : deps_p), with deps_p = C^-1 (sigma_trial -
 // sigma) the part of the strain increment the return took out of the elastic strain.
-inline double plastic_strain_increment(double K, double G, const Voigt& sigma_trial, const Voigt& sigma) {
+inline double plastic_strain_increment(double K, double G, const Voigt& sigma_trial,
+                                       const Voigt& sigma) {
   const Voigt ds = sigma_trial - sigma;
   const double dp = mean_stress(ds);
   const Voigt dev = deviator(ds);
   Voigt de = dev / (2.0 * G);
-  for (int i = 0; i < 3; ++i) de[i] += dp / (3.0 * K);
+  for (int i = 0; i < 3; ++i)
+    de[i] += dp / (3.0 * K);
   const double sq = de[0] * de[0] + de[1] * de[1] + de[2] * de[2] +
                     2.0 * (de[3] * de[3] + de[4] * de[4] + de[5] * de[5]);
   return std::sqrt(2.0 / 3.0 * sq);
