@@ -1,46 +1,53 @@
 #include "talus/boundary.hpp"
 
+#include <cmath>
+
 namespace talus {
 
 template <int D>
-GridConditions build_grid_conditions(const Case& c, const Grid<D>& grid) {
-  GridConditions gc;
-  auto& conds = gc.prescribed;
-  // Domain faces: fixed constrains every component, slip the normal one.
+GridConditions<D> build_grid_conditions(const Case& c, const Grid<D>& grid) {
+  GridConditions<D> gc;
+  NodeRange<D> all;
+  for (int d = 0; d < D; ++d)
+    all.lo[d] = 0, all.hi[d] = grid.nodes[d];
+  // Domain faces: fixed constrains every component, slip the normal one, friction is a wall.
   for (int d = 0; d < D; ++d) {
     for (int side = 0; side < 2; ++side) {
       const FaceCondition fc = c.grid.faces[2 * d + side];
       if (fc == FaceCondition::free) continue;
-      std::vector<std::int64_t> nodes;
-      const std::int64_t plane = side == 0 ? 0 : grid.nodes[d] - 1;
-      for (std::int64_t n = 0; n < grid.num_nodes(); ++n)
-        if (grid.node_coords(n)[d] == plane) nodes.push_back(n);
+      NodeRange<D> face = all;
+      face.lo[d] = side == 0 ? 0 : grid.nodes[d] - 1;
+      face.hi[d] = face.lo[d] + 1;
       if (fc == FaceCondition::friction) {
-        gc.walls.push_back({nodes, d, side == 0 ? -1.0 : 1.0, c.grid.face_friction[2 * d + side]});
+        gc.walls.push_back({face, d, side == 0 ? -1.0 : 1.0, c.grid.face_friction[2 * d + side]});
         continue;
       }
       for (int e = 0; e < D; ++e)
-        if (fc == FaceCondition::fixed || e == d) conds.push_back({nodes, e, 0.0});
+        if (fc == FaceCondition::fixed || e == d) gc.prescribed.push_back({face, -1, e, 0.0});
     }
   }
-  // [[boundary]] boxes. With one shared velocity field a condition on a body's nodes is a
-  // condition on the nodes in its box.
+  // [[boundary]] boxes: the nodes whose position lies inside [min, max].
   for (const BoundarySpec& b : c.boundaries) {
-    std::vector<std::int64_t> nodes;
-    for (std::int64_t n = 0; n < grid.num_nodes(); ++n) {
-      const Vec<D> x = grid.node_position(grid.node_coords(n));
-      bool in = true;
-      for (int d = 0; d < D; ++d)
-        in = in && x[d] >= b.min[d] && x[d] <= b.max[d];
-      if (in) nodes.push_back(n);
+    NodeRange<D> r;
+    for (int d = 0; d < D; ++d) {
+      const double lo = (b.min[d] - grid.origin[d]) / grid.h,
+                   hi = (b.max[d] - grid.origin[d]) / grid.h;
+      r.lo[d] = std::isfinite(lo)
+                    ? std::clamp<std::int64_t>(static_cast<std::int64_t>(std::ceil(lo - 1e-9)), 0,
+                                               grid.nodes[d])
+                    : 0;
+      r.hi[d] = std::isfinite(hi)
+                    ? std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(hi + 1e-9)) + 1,
+                                               0, grid.nodes[d])
+                    : grid.nodes[d];
     }
     for (int d = 0; d < D; ++d)
-      if (b.fixed[d]) conds.push_back({nodes, d, b.velocity[d]});
+      if (b.fixed[d]) gc.prescribed.push_back({r, b.body, d, b.velocity[d]});
   }
   return gc;
 }
 
-template GridConditions build_grid_conditions<2>(const Case&, const Grid<2>&);
-template GridConditions build_grid_conditions<3>(const Case&, const Grid<3>&);
+template GridConditions<2> build_grid_conditions<2>(const Case&, const Grid<2>&);
+template GridConditions<3> build_grid_conditions<3>(const Case&, const Grid<3>&);
 
 } // namespace talus

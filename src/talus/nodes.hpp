@@ -1,31 +1,60 @@
-// NodeFields<D>: one velocity field on the grid, structure of arrays. All bodies share one field
-// in this version; multi-velocity-field contact gives each body its own.
+// BodyField<D>: one body's velocity field on the grid (multi-velocity-field contact, paper
+// section 2.3), structure of arrays. It covers only the box of nodes the body's particles reach,
+// refitted every step, so a small body on a large grid costs a small field.
 #pragma once
 
-#include "talus/math.hpp"
+#include "talus/grid.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace talus {
 
 template <int D>
-struct NodeFields {
+struct BodyField {
+  Grid<D> box;                 // the sub-grid: same cell size, origin at node `offset`
+  Index<D> offset{};           // global node coordinates of the box's first node
   std::vector<double> m;       // mass M_I (eq. 14)
-  std::vector<Vec<D>> p;       // momentum p_I (eq. 16); in MUSL re-mapped from updated particles
+  std::vector<Vec<D>> p;       // momentum p_I (eq. 16); MUSL: re-mapped from updated particles
   std::vector<Vec<D>> f;       // internal + external force (eq. 17-18)
+  std::vector<Vec<D>> grad_m;  // mass gradient sum m_p grad N (eq. 30), points into the body
+  std::vector<Vec<D>> mx;      // mass-weighted position sum m_p N x_p (contact gap check)
   std::vector<Vec<D>> v;       // velocity at the start of the step, v_I^n
-  std::vector<Vec<D>> v_new;   // velocity at the end of the step, v_I^{n+1} (eq. 20)
+  std::vector<Vec<D>> v_new;   // velocity at the end of the step, v_I^{n+1} (eq. 20, 31-36)
   std::vector<Vec<D>> v_remap; // MUSL: velocity re-mapped from the updated particles
 
-  void resize(std::size_t n) {
-    m.assign(n, 0.0);
-    p.assign(n, Vec<D>::Zero());
-    f.assign(n, Vec<D>::Zero());
-    v.assign(n, Vec<D>::Zero());
-    v_new.assign(n, Vec<D>::Zero());
-    v_remap.assign(n, Vec<D>::Zero());
-  }
   std::size_t size() const { return m.size(); }
+
+  // Refits the box to global node range [lo, hi) and clears the mapped quantities. Vectors only
+  // grow, so a steady run stops allocating after its first steps.
+  void fit(const Grid<D>& grid, const Index<D>& lo, const Index<D>& hi) {
+    offset = lo;
+    box.h = grid.h;
+    std::size_t n = 1;
+    for (int d = 0; d < D; ++d) {
+      box.nodes[d] = std::max<std::int64_t>(hi[d] - lo[d], 1);
+      box.cells[d] = box.nodes[d] - 1;
+      box.origin[d] = grid.origin[d] + grid.h * static_cast<double>(lo[d]);
+      n *= static_cast<std::size_t>(box.nodes[d]);
+    }
+    for (auto* a : {&p, &f, &grad_m, &mx, &v, &v_new, &v_remap})
+      a->resize(n);
+    m.resize(n);
+    std::fill(m.begin(), m.end(), 0.0);
+    for (auto* a : {&p, &f, &grad_m, &mx})
+      std::fill(a->begin(), a->end(), Vec<D>::Zero());
+  }
+
+  // Local index of global node coordinates, or -1 outside the box.
+  std::int64_t local(const Index<D>& global) const {
+    std::int64_t n = 0;
+    for (int d = 0; d < D; ++d) {
+      const std::int64_t i = global[d] - offset[d];
+      if (i < 0 || i >= box.nodes[d]) return -1;
+      n = n * box.nodes[d] + i;
+    }
+    return n;
+  }
 };
 
 } // namespace talus

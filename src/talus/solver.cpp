@@ -44,11 +44,22 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     origin[d] = c.grid.origin[d], extent[d] = c.grid.extent[d];
   grid_ = Grid<D>(origin, extent, c.grid.cell_size);
   particles_ = fill_particles<D>(c);
-  nodes_.resize(static_cast<std::size_t>(grid_.num_nodes()));
+  const int B = particles_.num_bodies();
+  fields_.resize(B);
   for (const BodySpec& b : c.bodies) {
     body_material_.push_back(c.materials[b.material]);
     body_lp_.push_back(0.5 * c.grid.cell_size / b.particles_per_cell);
+    Vec<D> v;
+    for (int d = 0; d < D; ++d)
+      v[d] = b.velocity[d];
+    rigid_velocity_.push_back(v);
   }
+  pair_friction_.assign(B * B, c.contact.friction);
+  for (const ContactPair& pair : c.contact.pairs)
+    pair_friction_[pair.a * B + pair.b] = pair_friction_[pair.b * B + pair.a] = pair.friction;
+  contact_law_.gap_cutoff = c.contact.gap_cutoff;
+  contact_law_.cell_size = c.grid.cell_size;
+  contact_force_.assign(B * B, Vec<D>::Zero());
   conditions_ = build_grid_conditions<D>(c, grid_);
   for (int d = 0; d < D; ++d)
     gravity_[d] = c.simulation.gravity[d];
@@ -56,7 +67,7 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   // colour at least one slab apart.
   slab_width_ = 4;
   num_slabs_ = (grid_.cells[0] + slab_width_ - 1) / slab_width_;
-  bin_offset_.assign(static_cast<std::size_t>(num_slabs_ * particles_.num_bodies() + 1), 0);
+  bin_offset_.assign(static_cast<std::size_t>(num_slabs_ * B + 1), 0);
 }
 
 template <int D>
@@ -150,33 +161,42 @@ void Simulation<D>::scatter(F&& f) {
   }
 }
 
+// Each body's field covers the nodes its particles reach (GIMP: one cell beyond the particle's
+// cell on each side), refitted and cleared every step.
 template <int D>
-void Simulation<D>::clear_nodes() {
-  auto& N = nodes_;
-  const std::int64_t n = static_cast<std::int64_t>(N.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
-    N.m[i] = 0.0;
-    N.p[i].setZero();
-    N.f[i].setZero();
+void Simulation<D>::fit_body_fields() {
+  const auto& P = particles_;
+  for (int b = 0; b < P.num_bodies(); ++b) {
+    Vec<D> lo = Vec<D>::Constant(inf), hi = Vec<D>::Constant(-inf);
+    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
+      lo = lo.cwiseMin(P.x[p]), hi = hi.cwiseMax(P.x[p]);
+    Index<D> first = grid_.cell_of(lo), last = grid_.cell_of(hi);
+    for (int d = 0; d < D; ++d) {
+      first[d] = std::clamp<std::int64_t>(first[d] - 1, 0, grid_.nodes[d]);
+      last[d] = std::clamp<std::int64_t>(last[d] + 3, 0, grid_.nodes[d]);
+    }
+    fields_[b].fit(grid_, first, last);
   }
 }
 
-// P2G, eq. 14-18: mass, momentum and (optionally) internal and external force.
+// P2G, eq. 14-18 and 30: mass, momentum, mass gradient and mass-weighted position, and
+// (optionally) internal and external force, each body into its own field.
 template <int D>
 void Simulation<D>::map_particles_to_nodes(bool with_forces) {
   auto& P = particles_;
-  auto& N = nodes_;
   const ShapeKind kind = case_data_.grid.shape;
   scatter([&](std::uint32_t p, int b) {
-    const ShapeWeights<D> sw = evaluate_shape(grid_, kind, body_lp_[b], P.x[p]);
+    BodyField<D>& N = fields_[b];
+    const ShapeWeights<D> sw = evaluate_shape(N.box, kind, body_lp_[b], P.x[p]);
     const double m_p = P.m[p];
-    const Vec<D> mv_p = m_p * P.v[p];
+    const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
     const Vec<D> mg = m_p * gravity_;
-    for_each_node(grid_, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
+    for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
       N.m[I] += N_I * m_p;
       N.p[I] += N_I * mv_p;
+      N.mx[I] += N_I * mx_p;
+      N.grad_m[I] += m_p * dN_I;
       if (with_forces) N.f[I] += N_I * mg - Vsigma * dN_I;
     });
   });
@@ -185,13 +205,13 @@ void Simulation<D>::map_particles_to_nodes(bool with_forces) {
 template <int D>
 void Simulation<D>::map_forces_to_nodes() {
   auto& P = particles_;
-  auto& N = nodes_;
   const ShapeKind kind = case_data_.grid.shape;
   scatter([&](std::uint32_t p, int b) {
-    const ShapeWeights<D> sw = evaluate_shape(grid_, kind, body_lp_[b], P.x[p]);
+    BodyField<D>& N = fields_[b];
+    const ShapeWeights<D> sw = evaluate_shape(N.box, kind, body_lp_[b], P.x[p]);
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
     const Vec<D> mg = P.m[p] * gravity_;
-    for_each_node(grid_, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
+    for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
       N.f[I] += N_I * mg - Vsigma * dN_I;
     });
   });
@@ -201,47 +221,145 @@ void Simulation<D>::map_forces_to_nodes() {
 template <int D>
 void Simulation<D>::map_momentum_to_nodes() {
   auto& P = particles_;
-  auto& N = nodes_;
   const ShapeKind kind = case_data_.grid.shape;
-  const std::int64_t n = static_cast<std::int64_t>(N.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i)
-    N.p[i].setZero();
+  for (auto& N : fields_)
+    std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
   scatter([&](std::uint32_t p, int b) {
-    const ShapeWeights<D> sw = evaluate_shape(grid_, kind, body_lp_[b], P.x[p]);
+    BodyField<D>& N = fields_[b];
+    const ShapeWeights<D> sw = evaluate_shape(N.box, kind, body_lp_[b], P.x[p]);
     const Vec<D> mv_p = P.m[p] * P.v[p];
-    for_each_node(grid_, sw,
+    for_each_node(N.box, sw,
                   [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
   });
+  for (int b = 0; b < num_bodies(); ++b) {
+    BodyField<D>& N = fields_[b];
+    const std::int64_t n = static_cast<std::int64_t>(N.size());
 #pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i)
-    N.v_remap[i] = N.m[i] > 0.0 ? Vec<D>(N.p[i] / N.m[i]) : Vec<D>::Zero();
-  apply_grid_conditions<D>(conditions_, N.v_remap);
+    for (std::int64_t i = 0; i < n; ++i)
+      N.v_remap[i] = N.m[i] > 0.0 ? Vec<D>(N.p[i] / N.m[i]) : Vec<D>::Zero();
+    apply_grid_conditions<D>(conditions_, b, N, N.v_remap);
+  }
+  impose_rigid_velocity(&BodyField<D>::v_remap);
 }
 
-// Grid update, eq. 19-20: v^n = p/m and v^{n+1} = v^n + f/m dt, with local damping and the
-// velocity conditions applied to both.
+// Grid update, eq. 19-20 and 31: v^n = p/m and the free v^{n+1} = v^n + f/m dt per body, with
+// local damping and the velocity conditions applied to both.
 template <int D>
 void Simulation<D>::compute_node_velocities(double dt) {
-  auto& N = nodes_;
   const double alpha = case_data_.simulation.damping;
-  const std::int64_t n = static_cast<std::int64_t>(N.size());
+  for (int b = 0; b < num_bodies(); ++b) {
+    BodyField<D>& N = fields_[b];
+    const std::int64_t n = static_cast<std::int64_t>(N.size());
 #pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
-    if (N.m[i] <= 0.0) {
-      N.v[i].setZero();
-      N.v_new[i].setZero();
-      continue;
+    for (std::int64_t i = 0; i < n; ++i) {
+      if (N.m[i] <= 0.0) {
+        N.v[i].setZero();
+        N.v_new[i].setZero();
+        continue;
+      }
+      N.v[i] = N.p[i] / N.m[i];
+      Vec<D> f = N.f[i];
+      if (alpha > 0.0)
+        for (int d = 0; d < D; ++d)
+          f[d] -= alpha * std::abs(f[d]) * (N.v[i][d] > 0.0 ? 1.0 : (N.v[i][d] < 0.0 ? -1.0 : 0.0));
+      N.v_new[i] = N.v[i] + f / N.m[i] * dt;
     }
-    N.v[i] = N.p[i] / N.m[i];
-    Vec<D> f = N.f[i];
-    if (alpha > 0.0)
-      for (int d = 0; d < D; ++d)
-        f[d] -= alpha * std::abs(f[d]) * (N.v[i][d] > 0.0 ? 1.0 : (N.v[i][d] < 0.0 ? -1.0 : 0.0));
-    N.v_new[i] = N.v[i] + f / N.m[i] * dt;
+    apply_grid_conditions<D>(conditions_, b, N, N.v);
+    apply_grid_conditions<D>(conditions_, b, N, N.v_new);
   }
-  apply_grid_conditions<D>(conditions_, N.v);
-  apply_grid_conditions<D>(conditions_, N.v_new);
+  impose_rigid_velocity(&BodyField<D>::v);
+  impose_rigid_velocity(&BodyField<D>::v_new);
+}
+
+template <int D>
+void Simulation<D>::impose_rigid_velocity(std::vector<Vec<D>> BodyField<D>::*velocity) {
+  for (int b = 0; b < num_bodies(); ++b)
+    if (case_data_.bodies[b].rigid)
+      std::fill((fields_[b].*velocity).begin(), (fields_[b].*velocity).end(), rigid_velocity_[b]);
+}
+
+// Contact at every node that two or more bodies share (ARCHITECTURE.md step 5). The nodes are
+// visited row by row along x; contact forces are summed per row and then in row order, so the
+// recorded forces do not depend on the thread count either.
+template <int D>
+void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
+                                  bool record) {
+  const int B = num_bodies();
+  if (B < 2) return;
+  // The nodes where at least two boxes overlap.
+  Index<D> lo, hi;
+  bool any = false;
+  for (int a = 0; a < B; ++a)
+    for (int b = a + 1; b < B; ++b) {
+      Index<D> l, h;
+      bool overlap = true;
+      for (int d = 0; d < D; ++d) {
+        l[d] = std::max(fields_[a].offset[d], fields_[b].offset[d]);
+        h[d] = std::min(fields_[a].offset[d] + fields_[a].box.nodes[d],
+                        fields_[b].offset[d] + fields_[b].box.nodes[d]);
+        overlap = overlap && l[d] < h[d];
+      }
+      if (!overlap) continue;
+      for (int d = 0; d < D; ++d)
+        lo[d] = any ? std::min(lo[d], l[d]) : l[d], hi[d] = any ? std::max(hi[d], h[d]) : h[d];
+      any = true;
+    }
+  if (record) std::fill(contact_force_.begin(), contact_force_.end(), Vec<D>::Zero());
+  if (!any) return;
+  const std::int64_t rows = hi[0] - lo[0];
+  if (record) contact_rows_.assign(rows * B * B, Vec<D>::Zero());
+#pragma omp parallel for schedule(dynamic, 4)
+  for (std::int64_t r = 0; r < rows; ++r) {
+    Index<D> g = lo;
+    g[0] = lo[0] + r;
+    while (true) {
+      ContactNode<D> node;
+      std::int64_t local[max_bodies_at_node];
+      for (int b = 0; b < B && node.n < max_bodies_at_node; ++b) {
+        const std::int64_t i = fields_[b].local(g);
+        if (i < 0 || fields_[b].m[i] <= 0.0) continue;
+        const BodyField<D>& N = fields_[b];
+        const int k = node.n++;
+        node.body[k] = b, local[k] = i;
+        node.m[k] = N.m[i];
+        node.v[k] = (N.*velocity)[i];
+        node.grad_m[k] = N.grad_m[i];
+        node.x[k] = N.mx[i] / N.m[i];
+        node.rigid[k] = case_data_.bodies[b].rigid;
+      }
+      if (node.n >= 2) {
+        // Each body's friction is that of its pair with the heaviest other body at the node.
+        for (int k = 0; k < node.n; ++k) {
+          int other = k == 0 ? 1 : 0;
+          for (int j = 0; j < node.n; ++j)
+            if (j != k && node.m[j] > node.m[other]) other = j;
+          node.mu[k] = pair_friction_[node.body[k] * B + node.body[other]];
+        }
+        Vec<D> before[max_bodies_at_node];
+        for (int k = 0; k < node.n; ++k)
+          before[k] = node.v[k];
+        if (resolve_contact(node, contact_law_)) {
+          for (int k = 0; k < node.n; ++k) {
+            (fields_[node.body[k]].*velocity)[local[k]] = node.v[k];
+            if (!record) continue;
+            int other = k == 0 ? 1 : 0;
+            for (int j = 0; j < node.n; ++j)
+              if (j != k && node.m[j] > node.m[other]) other = j;
+            contact_rows_[(r * B + node.body[k]) * B + node.body[other]] +=
+                node.m[k] * (node.v[k] - before[k]) / dt;
+          }
+        }
+      }
+      int d = D - 1;
+      while (d >= 1 && ++g[d] == hi[d])
+        g[d] = lo[d], --d;
+      if (d < 1) break;
+    }
+  }
+  if (record)
+    for (std::int64_t r = 0; r < rows; ++r)
+      for (int k = 0; k < B * B; ++k)
+        contact_force_[k] += contact_rows_[r * B * B + k];
 }
 
 // G2P. With `velocity`, the particle velocity takes the FLIP/PIC blend of the grid change (eq. 22);
@@ -250,7 +368,7 @@ void Simulation<D>::compute_node_velocities(double dt) {
 template <int D>
 void Simulation<D>::map_nodes_to_particles(double dt, const Gather& what) {
   for (int b = 0; b < particles_.num_bodies(); ++b) {
-    if (what.strain_rate_field)
+    if (what.strain_rate)
       std::visit([&](const auto& model) { map_nodes_to_body(b, dt, what, &model); },
                  body_material_[b].model);
     else
@@ -262,23 +380,29 @@ template <int D>
 template <class Model>
 void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, const Model* model) {
   auto& P = particles_;
-  const auto& N = nodes_;
+  const BodyField<D>& N = fields_[b];
   const ShapeKind kind = case_data_.grid.shape;
   const double flip = case_data_.simulation.flip;
+  const bool rigid = case_data_.bodies[b].rigid;
   const double lp = body_lp_[b];
   const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
   std::atomic<std::size_t> bad{P.size()};
 #pragma omp parallel for schedule(static)
   for (std::int64_t p = begin; p < end; ++p) {
-    const ShapeWeights<D> sw = evaluate_shape(grid_, kind, lp, P.x[p]);
+    if (rigid) { // prescribed motion; no stress
+      if (what.velocity) P.v[p] = rigid_velocity_[b];
+      if (what.move) P.x[p] += dt * rigid_velocity_[b];
+      continue;
+    }
+    const ShapeWeights<D> sw = evaluate_shape(N.box, kind, lp, P.x[p]);
     Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
     Mat<D> L = Mat<D>::Zero();
-    for_each_node(grid_, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
+    for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
       if (what.velocity || what.move) {
         v_old += N_I * N.v[I];
         v_new += N_I * N.v_new[I];
       }
-      if (what.strain_rate_field) L += (*what.strain_rate_field)[I] * dN_I.transpose();
+      if (what.strain_rate) L += (N.*what.strain_rate)[I] * dN_I.transpose();
     });
     if (what.velocity) P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
     if (what.move) P.x[p] += 0.5 * dt * (v_old + v_new);
@@ -307,7 +431,7 @@ void Simulation<D>::step(double dt_limit) {
   dt_ = std::min(compute_time_step(), dt_limit);
   if (steps_ % sort_interval_ == 0) sort_particles_by_cell();
   bin_particles_by_slab();
-  clear_nodes();
+  fit_body_fields();
   phase_times_.other += seconds_since(t0);
 
   auto timed = [](double& acc, auto&& phase) {
@@ -315,32 +439,36 @@ void Simulation<D>::step(double dt_limit) {
     phase();
     acc += seconds_since(t);
   };
+  using F = BodyField<D>;
   auto& T = phase_times_;
   switch (case_data_.simulation.scheme) {
   case Scheme::usf: // stress first, from the velocity of the mapped momentum
     timed(T.p2g, [&] { map_particles_to_nodes(false); });
     timed(T.grid, [&] { compute_node_velocities(0.0); });
-    timed(T.stress, [&] { map_nodes_to_particles(dt_, {.strain_rate_field = &nodes_.v}); });
+    timed(T.contact, [&] { apply_contact(&F::v, dt_, false); });
+    timed(T.stress, [&] { map_nodes_to_particles(dt_, {.strain_rate = &F::v}); });
     timed(T.p2g, [&] { map_forces_to_nodes(); });
     timed(T.grid, [&] { compute_node_velocities(dt_); });
+    timed(T.contact, [&] { apply_contact(&F::v_new, dt_, true); });
     timed(T.g2p, [&] { map_nodes_to_particles(dt_, {.velocity = true, .move = true}); });
     break;
   case Scheme::usl: // stress last, from the updated grid velocity
     timed(T.p2g, [&] { map_particles_to_nodes(true); });
     timed(T.grid, [&] { compute_node_velocities(dt_); });
+    timed(T.contact, [&] { apply_contact(&F::v_new, dt_, true); });
     timed(T.g2p, [&] {
-      map_nodes_to_particles(dt_,
-                             {.velocity = true, .move = true, .strain_rate_field = &nodes_.v_new});
+      map_nodes_to_particles(dt_, {.velocity = true, .move = true, .strain_rate = &F::v_new});
     });
     break;
   case Scheme::musl: // stress last, from the velocity re-mapped from the updated particles
     timed(T.p2g, [&] { map_particles_to_nodes(true); });
     timed(T.grid, [&] { compute_node_velocities(dt_); });
+    timed(T.contact, [&] { apply_contact(&F::v_new, dt_, true); });
     timed(T.g2p, [&] { map_nodes_to_particles(dt_, {.velocity = true}); });
     timed(T.p2g, [&] { map_momentum_to_nodes(); });
-    timed(T.stress, [&] {
-      map_nodes_to_particles(dt_, {.move = true, .strain_rate_field = &nodes_.v_remap});
-    });
+    timed(T.contact, [&] { apply_contact(&F::v_remap, dt_, false); });
+    timed(T.stress,
+          [&] { map_nodes_to_particles(dt_, {.move = true, .strain_rate = &F::v_remap}); });
     break;
   }
   time_ += dt_;

@@ -1,8 +1,10 @@
 // Simulation<D>: the state of a run and its explicit time step (ARCHITECTURE.md, "One time step").
+// Each body has its own velocity field (multi-velocity-field contact, paper section 2.3).
 #pragma once
 
 #include "talus/boundary.hpp"
 #include "talus/case/case.hpp"
+#include "talus/contact.hpp"
 #include "talus/grid.hpp"
 #include "talus/nodes.hpp"
 #include "talus/particles.hpp"
@@ -22,7 +24,7 @@ public:
 
 // Wall time spent in each phase of the step, for the benchmark.
 struct PhaseTimes {
-  double p2g = 0, grid = 0, g2p = 0, stress = 0, other = 0;
+  double p2g = 0, grid = 0, contact = 0, g2p = 0, stress = 0, other = 0;
 };
 
 template <int D>
@@ -39,9 +41,12 @@ public:
   const Case& case_() const { return case_data_; }
   const Grid<D>& grid() const { return grid_; }
   const Particles<D>& particles() const { return particles_; }
-  const NodeFields<D>& nodes() const { return nodes_; }
+  const std::vector<BodyField<D>>& fields() const { return fields_; }
   const std::vector<Material>& body_materials() const { return body_material_; }
   const PhaseTimes& phase_times() const { return phase_times_; }
+  // Contact force on body a from body b in the last step: contact_force(a, b).
+  const Vec<D>& contact_force(int a, int b) const { return contact_force_[a * num_bodies() + b]; }
+  int num_bodies() const { return particles_.num_bodies(); }
 
   // The stable time step of the current state (CFL) or the fixed one.
   double compute_time_step() const;
@@ -54,25 +59,28 @@ public:
   // The phases of step(), public so the tests can check each transfer on its own.
   void sort_particles_by_cell();
   void bin_particles_by_slab();
-  void clear_nodes();
+  void fit_body_fields();
   void map_particles_to_nodes(bool with_forces);
   void map_forces_to_nodes();
   void map_momentum_to_nodes();
   void compute_node_velocities(double dt);
+  // Contact on one velocity array of every body field (v, v_new or v_remap).
+  void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, bool record);
   // What one G2P pass does: blend the particle velocity, move the particle, and/or update F,
-  // volume and stress from the velocity gradient of `strain_rate_field`.
+  // volume and stress from the velocity gradient of the field `strain_rate`.
   struct Gather {
     bool velocity = false;
     bool move = false;
-    const std::vector<Vec<D>>* strain_rate_field = nullptr;
+    std::vector<Vec<D>> BodyField<D>::*strain_rate = nullptr;
   };
   void map_nodes_to_particles(double dt, const Gather& what);
-  template <class Model>
-  void map_nodes_to_body(int body, double dt, const Gather& what, const Model* model);
   void check_particles() const;
 
 private:
-  // Calls f(p, shape) for every particle, slab colour by slab colour, so that no two threads
+  template <class Model>
+  void map_nodes_to_body(int body, double dt, const Gather& what, const Model* model);
+  void impose_rigid_velocity(std::vector<Vec<D>> BodyField<D>::*velocity);
+  // Calls f(p, body) for every particle, slab colour by slab colour, so that no two threads
   // write one node and every node sums its particles in one fixed order (thread-count independent).
   template <class F>
   void scatter(F&& f);
@@ -80,10 +88,13 @@ private:
   Case case_data_;
   Grid<D> grid_;
   Particles<D> particles_;
-  NodeFields<D> nodes_;
+  std::vector<BodyField<D>> fields_;    // one per body
   std::vector<Material> body_material_; // per body
   std::vector<double> body_lp_;         // GIMP half-width per body
-  GridConditions conditions_;
+  std::vector<Vec<D>> rigid_velocity_;  // per body (used if rigid)
+  std::vector<double> pair_friction_;   // B x B
+  GridConditions<D> conditions_;
+  ContactLaw contact_law_;
   Vec<D> gravity_ = Vec<D>::Zero();
 
   // Slab binning for the coloured scatter: particles of slab s and body b are
@@ -93,6 +104,9 @@ private:
   std::vector<std::uint32_t> bin_index_;
   std::vector<std::size_t> bin_offset_;
   std::vector<std::uint32_t> particle_bin_;
+
+  std::vector<Vec<D>> contact_force_; // B x B, last step
+  std::vector<Vec<D>> contact_rows_;  // per grid row x B x B, summed in row order
 
   double time_ = 0.0;
   double dt_ = 0.0;

@@ -70,10 +70,10 @@ TYPED_TEST(TransferTest, ScatterConservesMassAndMomentum) {
     Simulation<D> sim(test::case_from(block_case<D>(shape, "usl", 1.0)));
     randomise(sim.particles_mut(), 3);
     sim.bin_particles_by_slab();
-    sim.clear_nodes();
+    sim.fit_body_fields();
     sim.map_particles_to_nodes(true);
     const auto& P = sim.particles();
-    const auto& N = sim.nodes();
+    const auto& N = sim.fields()[0];
     double m_p = 0.0, m_I = 0.0;
     Vec<D> p_p = Vec<D>::Zero(), p_I = Vec<D>::Zero(), f_I = Vec<D>::Zero();
     for (std::size_t p = 0; p < P.size(); ++p)
@@ -94,12 +94,12 @@ TYPED_TEST(TransferTest, PicGatherReturnsTheGridMomentum) {
   Simulation<D> sim(test::case_from(block_case<D>("gimp", "usl", 0.0)));
   randomise(sim.particles_mut(), 5);
   sim.bin_particles_by_slab();
-  sim.clear_nodes();
+  sim.fit_body_fields();
   sim.map_particles_to_nodes(true);
   const double dt = 1e-4;
   sim.compute_node_velocities(dt);
   Vec<D> grid_momentum = Vec<D>::Zero();
-  const auto& N = sim.nodes();
+  const auto& N = sim.fields()[0];
   for (std::size_t i = 0; i < N.size(); ++i)
     grid_momentum += N.m[i] * N.v_new[i];
   sim.map_nodes_to_particles(dt, {.velocity = true});

@@ -14,9 +14,11 @@ namespace talus {
 namespace {
 
 Simulation<2> run(const std::string& file, const std::vector<std::string>& overrides) {
-  const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/" + file, overrides);
+  const Case c =
+      parse_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/" + file, overrides);
   Simulation<2> sim(c);
-  while (sim.time() < c.simulation.end_time - 1e-12) sim.step(c.simulation.end_time - sim.time());
+  while (sim.time() < c.simulation.end_time - 1e-12)
+    sim.step(c.simulation.end_time - sim.time());
   return sim;
 }
 
@@ -32,9 +34,10 @@ SlopeFigures slope_figures(const Simulation<2>& sim) {
     const Vec<2> x0 = P.x0[p];
     const double d = (x0 - Vec<2>(30.0, 35.0)).norm();
     if (d < crest_d) crest_d = d, f.crest_settlement = x0[1] - P.x[p][1];
-    if (x0[1] > 15.0) f.runout = std::max(f.runout, P.x[p][0] - 50.0); // slope material past the toe
+    if (x0[1] > 15.0)
+      f.runout = std::max(f.runout, P.x[p][0] - 50.0); // slope material past the toe
     if (P.eps_p[p] > 0.3) {
-      if (x0[1] > 34.0) f.band_top_x = std::min(f.band_top_x, x0[0]);   // where the band daylights
+      if (x0[1] > 34.0) f.band_top_x = std::min(f.band_top_x, x0[0]); // where the band daylights
       if (x0[0] > 30.0 && x0[0] < 50.0) f.band_depth = std::min(f.band_depth, x0[1]);
     }
   }
@@ -43,17 +46,19 @@ SlopeFigures slope_figures(const Simulation<2>& sim) {
 
 TEST(CohesiveSlope, FailsAlongADeepBandAtTwoResolutions) {
   for (double h : {2.0, 1.0}) {
-    const SlopeFigures f = slope_figures(run("cohesive_slope.toml", {"grid.cell_size=" + std::to_string(h)}));
-    std::printf("cohesive slope, cell %.1f m: crest settlement %.2f m, run-out past the toe %.2f m, "
-                "band daylights at x = %.1f m, band reaches y = %.1f m\n",
-                h, f.crest_settlement, f.runout, f.band_top_x, f.band_depth);
+    const SlopeFigures f =
+        slope_figures(run("cohesive_slope.toml", {"grid.cell_size=" + std::to_string(h)}));
+    std::printf(
+        "cohesive slope, cell %.1f m: crest settlement %.2f m, run-out past the toe %.2f m, "
+        "band daylights at x = %.1f m, band reaches y = %.1f m\n",
+        h, f.crest_settlement, f.runout, f.band_top_x, f.band_depth);
     // The slope fails: measured crest settlement 6.7 and 8.2 m at 2 and 1 m cells. The run-out
     // is not converged in the cell size (4.2 and 10.0 m): it only has to pass the toe.
     EXPECT_GT(f.crest_settlement, 6.0);
     EXPECT_LT(f.crest_settlement, 11.0);
     EXPECT_GT(f.runout, 3.0);
-    EXPECT_LT(f.band_top_x, 30.0);       // the band starts behind the crest edge ...
-    EXPECT_LT(f.band_depth, 17.0);       // ... and passes at toe level (y = 15 m): a deep mechanism
+    EXPECT_LT(f.band_top_x, 30.0); // the band starts behind the crest edge ...
+    EXPECT_LT(f.band_depth, 17.0); // ... and passes at toe level (y = 15 m): a deep mechanism
   }
 }
 
@@ -75,7 +80,8 @@ TEST(ColumnCollapse, KeepsAWedgeAtTheWallAndRunsOut) {
   EXPECT_LT(runout, 0.45);
   // Kinetic energy at the end: the deposit has stopped.
   double ke = 0;
-  for (std::size_t p = 0; p < P.size(); ++p) ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
+  for (std::size_t p = 0; p < P.size(); ++p)
+    ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
   EXPECT_LT(ke, 1e-4);
 }
 

@@ -58,7 +58,20 @@ struct BodySpec {
   int material = 0;               // index into Case::materials
   std::vector<Geometry> geometry; // union of shapes
   int particles_per_cell = 2;     // per direction
-  Vec3a velocity{0.0, 0.0, 0.0};  // initial velocity
+  Vec3a velocity{0.0, 0.0, 0.0};  // initial velocity (a rigid body keeps it)
+  bool rigid = false;             // prescribed velocity, infinite mass in contact
+};
+
+// Friction between a pair of bodies; pairs not listed use ContactSettings::friction.
+struct ContactPair {
+  int a = 0, b = 0;
+  double friction = 0.0;
+};
+
+struct ContactSettings {
+  double friction = 0.0;   // default Coulomb coefficient
+  double gap_cutoff = 0.8; // cells; < 0 switches the gap check off
+  std::vector<ContactPair> pairs;
 };
 
 // A velocity condition on the grid nodes inside a box, optionally only for one body's field.
@@ -91,6 +104,7 @@ struct Case {
   std::vector<Material> materials;
   std::vector<BodySpec> bodies;
   std::vector<BoundarySpec> boundaries;
+  ContactSettings contact;
   std::vector<ProbeSpec> probes;
   OutputSettings output;
 };

@@ -570,6 +570,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
     require(r, "particles_per_cell", b.particles_per_cell >= 1 && b.particles_per_cell <= 8,
             "must be 1 to 8 (per direction)");
     b.velocity = r.vector("velocity", dim, Vec3a{0.0, 0.0, 0.0});
+    b.rigid = r.boolean("rigid", false);
     Vec3a lo{}, hi{};
     bounds(b.geometry[0], dim, lo, hi);
     for (int d = 0; d < dim; ++d) {
@@ -604,6 +605,37 @@ Case parse_case_text(const std::string& text, const std::string& path,
     if (!b.fixed[0] && !b.fixed[1] && !b.fixed[2])
       r.fail("velocity", "a boundary must set velocity or at least one of velocity_x/_y/_z");
     c.boundaries.push_back(b);
+  });
+
+  // [[contact]]: an entry with `bodies` sets that pair's friction; one entry without sets the
+  // default friction and the gap check.
+  bool has_default = false;
+  for_each_entry(root, "contact", [&](TableReader& r, std::size_t) {
+    const double mu = r.number("friction");
+    require(r, "friction", mu >= 0.0, "must be >= 0");
+    if (!r.has("bodies")) {
+      if (has_default)
+        r.fail("friction", "only one [[contact]] entry may omit bodies (the default)");
+      has_default = true;
+      c.contact.friction = mu;
+      c.contact.gap_cutoff = r.number("gap_cutoff", 0.8);
+      return;
+    }
+    const toml::array* a = r.array("bodies");
+    if (a->size() != 2 || !a->get(0)->is_string() || !a->get(1)->is_string())
+      r.fail("bodies", "expected two body names, e.g. bodies = [\"block\", \"plane\"]");
+    ContactPair pair;
+    int ids[2];
+    for (int k = 0; k < 2; ++k) {
+      const std::string name = a->get(k)->value<std::string>().value();
+      const auto it = std::find(body_names.begin(), body_names.end(), name);
+      if (it == body_names.end())
+        r.fail("bodies", fmt::format("no body is named '{}'{}", name, suggest(name, body_names)));
+      ids[k] = static_cast<int>(it - body_names.begin());
+    }
+    if (ids[0] == ids[1]) r.fail("bodies", "a body cannot be in contact with itself");
+    pair.a = ids[0], pair.b = ids[1], pair.friction = mu;
+    c.contact.pairs.push_back(pair);
   });
 
   for_each_entry(root, "probe", [&](TableReader& r, std::size_t i) {

@@ -1,0 +1,95 @@
+// Multi-velocity-field contact at one node (paper section 2.3): each body at the node is compared
+// with the centre of mass of all bodies there, so three or more bodies work and the node's total
+// momentum is conserved to round-off. A pure function of the node's data, tested on its own.
+#pragma once
+
+#include "talus/math.hpp"
+
+#include <cmath>
+
+namespace talus {
+
+constexpr int max_bodies_at_node = 8;
+
+// The bodies present at one node (mass > 0), with the quantities the law needs.
+template <int D>
+struct ContactNode {
+  int n = 0;
+  int body[max_bodies_at_node]{};
+  double m[max_bodies_at_node]{};
+  Vec<D> v[max_bodies_at_node];       // velocity, corrected in place
+  Vec<D> grad_m[max_bodies_at_node];  // mass gradient (points into the body)
+  Vec<D> x[max_bodies_at_node];       // mass-weighted nodal position (gap check)
+  bool rigid[max_bodies_at_node]{};
+  double mu[max_bodies_at_node]{};    // friction of each body against the others
+};
+
+// Settings of the contact law.
+struct ContactLaw {
+  // Gap check (Nairn 2013's position check): a body is in contact only if the mean nodal position
+  // of the others lies within gap_cutoff cells of its own along the normal. Two bodies touching
+  // across a node, sampled with 2 particles per cell, sit 0.75 cells apart; a negative cutoff
+  // switches the check off (contact on approach alone, eq. 29).
+  double gap_cutoff = 0.8;
+  double cell_size = 1.0;
+};
+
+// Resolves contact at a node: impenetrability (eq. 32-34) and Coulomb friction (eq. 35-36)
+// against the centre-of-mass velocity. Normals are the difference of the body's mass gradient and
+// the others' (collinear and opposite for two bodies). Rigid bodies have infinite mass: the
+// centre-of-mass velocity is theirs and they are never corrected. Returns true if any body was
+// corrected; node.v holds the corrected velocities.
+template <int D>
+bool resolve_contact(ContactNode<D>& node, const ContactLaw& law) {
+  const int n = node.n;
+  if (n < 2) return false;
+  double M = 0.0;
+  Vec<D> P = Vec<D>::Zero(), G = Vec<D>::Zero(), MX = Vec<D>::Zero();
+  int rigid = -1;
+  for (int k = 0; k < n; ++k) {
+    M += node.m[k];
+    P += node.m[k] * node.v[k];
+    G += node.grad_m[k];
+    MX += node.m[k] * node.x[k];
+    if (node.rigid[k] && (rigid < 0 || node.m[k] > node.m[rigid])) rigid = k;
+  }
+  const Vec<D> v_cm = rigid >= 0 ? node.v[rigid] : Vec<D>(P / M);
+  Vec<D> c[max_bodies_at_node];
+  double m_corrected = 0.0;
+  Vec<D> residual = Vec<D>::Zero();
+  bool any = false;
+  for (int k = 0; k < n; ++k) {
+    c[k].setZero();
+    if (node.rigid[k]) continue;
+    const Vec<D> g = 2.0 * node.grad_m[k] - G; // own gradient minus the others'
+    const double g_norm = g.norm();
+    if (g_norm <= 0.0) continue;
+    const Vec<D> normal = -g / g_norm; // outward from body k
+    const Vec<D> dv = node.v[k] - v_cm;
+    const double dn = dv.dot(normal);
+    if (dn <= 0.0) continue; // separating (eq. 29)
+    if (law.gap_cutoff >= 0.0) {
+      const double m_other = M - node.m[k];
+      const Vec<D> x_other = (MX - node.m[k] * node.x[k]) / m_other;
+      if ((x_other - node.x[k]).dot(normal) > law.gap_cutoff * law.cell_size) continue;
+    }
+    const Vec<D> dv_t = dv - dn * normal;
+    const double t = dv_t.norm();
+    // Stick if friction can stop the tangential slip, else slide with friction mu * dn.
+    c[k] = node.mu[k] * dn >= t ? dv : Vec<D>(dn * normal + (node.mu[k] * dn / t) * dv_t);
+    m_corrected += node.m[k];
+    residual += node.m[k] * c[k];
+    any = true;
+  }
+  if (!any) return false;
+  // Without a rigid body the corrections must not change the node's momentum. For two bodies
+  // the residual is zero by construction; for more it is shared by the corrected bodies.
+  for (int k = 0; k < n; ++k) {
+    if (c[k].isZero()) continue;
+    node.v[k] -= c[k];
+    if (rigid < 0) node.v[k] += residual / m_corrected;
+  }
+  return true;
+}
+
+} // namespace talus
