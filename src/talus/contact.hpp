@@ -17,11 +17,13 @@ struct ContactNode {
   int n = 0;
   int body[max_bodies_at_node]{};
   double m[max_bodies_at_node]{};
-  Vec<D> v[max_bodies_at_node];       // velocity, corrected in place
-  Vec<D> grad_m[max_bodies_at_node];  // mass gradient (points into the body)
-  Vec<D> x[max_bodies_at_node];       // mass-weighted nodal position (gap check)
+  Vec<D> v[max_bodies_at_node];      // velocity, corrected in place
+  Vec<D> grad_m[max_bodies_at_node]; // sum m_p grad N_I(x_p): points out of the body
+  Vec<D> x[max_bodies_at_node];      // mass-weighted nodal position (gap check)
   bool rigid[max_bodies_at_node]{};
-  double mu[max_bodies_at_node]{};    // friction of each body against the others
+  // A rigid body's outward surface normal from its geometry, if known (zero: use the gradient).
+  Vec<D> rigid_normal[max_bodies_at_node];
+  double mu[max_bodies_at_node]{}; // friction of each body against the others
 };
 
 // Settings of the contact law.
@@ -35,8 +37,7 @@ struct ContactLaw {
 };
 
 // Resolves contact at a node: impenetrability (eq. 32-34) and Coulomb friction (eq. 35-36)
-// against the centre-of-mass velocity. Normals are the difference of the body's mass gradient and
-// the others' (collinear and opposite for two bodies). Rigid bodies have infinite mass: the
+// against the centre-of-mass velocity (normals: see below). Rigid bodies have infinite mass: the
 // centre-of-mass velocity is theirs and they are never corrected. Returns true if any body was
 // corrected; node.v holds the corrected velocities.
 template <int D>
@@ -61,10 +62,23 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law) {
   for (int k = 0; k < n; ++k) {
     c[k].setZero();
     if (node.rigid[k]) continue;
-    const Vec<D> g = 2.0 * node.grad_m[k] - G; // own gradient minus the others'
+    // The contact normal, outward from body k. A rigid body's exact geometric normal if known.
+    // Two bodies: the mass gradient of the body with more mass at the node (Nairn 2013's
+    // "maximum volume" choice, as densities are similar), which keeps the normals collinear and
+    // is not fooled by the lighter body's corners. Three or more: own gradient minus the others'.
+    Vec<D> g;
+    if (rigid >= 0 && !node.rigid_normal[rigid].isZero()) {
+      g = -node.rigid_normal[rigid];
+    } else if (n == 2) {
+      const int j = 1 - k;
+      const bool own = rigid < 0 ? node.m[k] > node.m[j] : false;
+      g = own ? node.grad_m[k] : Vec<D>(-node.grad_m[j]);
+    } else {
+      g = 2.0 * node.grad_m[k] - G;
+    }
     const double g_norm = g.norm();
     if (g_norm <= 0.0) continue;
-    const Vec<D> normal = -g / g_norm; // outward from body k
+    const Vec<D> normal = g / g_norm;
     const Vec<D> dv = node.v[k] - v_cm;
     const double dn = dv.dot(normal);
     if (dn <= 0.0) continue; // separating (eq. 29)

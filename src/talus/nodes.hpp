@@ -17,7 +17,7 @@ struct BodyField {
   std::vector<double> m;       // mass M_I (eq. 14)
   std::vector<Vec<D>> p;       // momentum p_I (eq. 16); MUSL: re-mapped from updated particles
   std::vector<Vec<D>> f;       // internal + external force (eq. 17-18)
-  std::vector<Vec<D>> grad_m;  // mass gradient sum m_p grad N (eq. 30), points into the body
+  std::vector<Vec<D>> grad_m;  // sum m_p grad N_I(x_p) (eq. 30): points out of the body
   std::vector<Vec<D>> mx;      // mass-weighted position sum m_p N x_p (contact gap check)
   std::vector<Vec<D>> v;       // velocity at the start of the step, v_I^n
   std::vector<Vec<D>> v_new;   // velocity at the end of the step, v_I^{n+1} (eq. 20, 31-36)

@@ -75,7 +75,8 @@ double Simulation<D>::compute_time_step() const {
   const auto& P = particles_;
   double max_speed = 0.0;
   for (int b = 0; b < P.num_bodies(); ++b) {
-    const double modulus = body_material_[b].p_wave_modulus();
+    // A rigid body carries no stress wave: only its speed counts.
+    const double modulus = case_data_.bodies[b].rigid ? 0.0 : body_material_[b].p_wave_modulus();
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
 #pragma omp parallel for reduction(max : max_speed) schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
@@ -326,6 +327,12 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         node.grad_m[k] = N.grad_m[i];
         node.x[k] = N.mx[i] / N.m[i];
         node.rigid[k] = case_data_.bodies[b].rigid;
+        node.rigid_normal[k].setZero();
+        if (node.rigid[k]) {
+          // The exact normal of the rigid body's geometry, moved with the body.
+          const Vec<D> x_I = grid_.node_position(g) - rigid_velocity_[b] * time_;
+          node.rigid_normal[k] = surface_normal<D>(case_data_.bodies[b].geometry[0], x_I);
+        }
       }
       if (node.n >= 2) {
         // Each body's friction is that of its pair with the heaviest other body at the node.
@@ -360,6 +367,9 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
     for (std::int64_t r = 0; r < rows; ++r)
       for (int k = 0; k < B * B; ++k)
         contact_force_[k] += contact_rows_[r * B * B + k];
+  // Velocity conditions have the last word over contact.
+  for (int b = 0; b < B; ++b)
+    apply_grid_conditions<D>(conditions_, b, fields_[b], fields_[b].*velocity);
 }
 
 // G2P. With `velocity`, the particle velocity takes the FLIP/PIC blend of the grid change (eq. 22);

@@ -60,6 +60,8 @@ struct BodySpec {
   int particles_per_cell = 2;     // per direction
   Vec3a velocity{0.0, 0.0, 0.0};  // initial velocity (a rigid body keeps it)
   bool rigid = false;             // prescribed velocity, infinite mass in contact
+  double lattice_angle = 0.0;     // 2D: rotation (radians) of the particle lattice about the
+                                  // first polygon vertex, so an inclined edge is seeded straight
 };
 
 // Friction between a pair of bodies; pairs not listed use ContactSettings::friction.

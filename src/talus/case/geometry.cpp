@@ -43,11 +43,105 @@ bool inside(const Geometry& g, const Vec<D>& x) {
   return false;
 }
 
+template <int D>
+Vec<D> surface_normal(const Geometry& g, const Vec<D>& x) {
+  Vec<D> n = Vec<D>::Zero();
+  if (g.kind == Geometry::Kind::disk) {
+    Vec<D> c;
+    for (int d = 0; d < D; ++d)
+      c[d] = g.center[d];
+    const Vec<D> r = x - c;
+    return r.norm() > 0.0 ? Vec<D>(r / r.norm()) : n;
+  }
+  if (g.kind == Geometry::Kind::box) {
+    double best = inf;
+    for (int d = 0; d < D; ++d)
+      for (int side = 0; side < 2; ++side) {
+        const double dist = std::abs(x[d] - (side ? g.max[d] : g.min[d]));
+        if (dist < best) best = dist, n.setZero(), n[d] = side ? 1.0 : -1.0;
+      }
+    return n;
+  }
+  if constexpr (D == 2) {
+    // Nearest edge; its outward side from the polygon's orientation (signed area).
+    const auto& v = g.vertices;
+    double area = 0.0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const auto& a = v[i];
+      const auto& b = v[(i + 1) % v.size()];
+      area += a[0] * b[1] - b[0] * a[1];
+    }
+    double best = inf;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const Vec<2> a(v[i][0], v[i][1]), b(v[(i + 1) % v.size()][0], v[(i + 1) % v.size()][1]);
+      const Vec<2> e = b - a;
+      const double t = std::clamp((x - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+      const double dist = (a + t * e - x).norm();
+      if (dist < best) {
+        best = dist;
+        const Vec<2> right(e[1], -e[0]); // outward for a counter-clockwise polygon
+        n = (area > 0.0 ? 1.0 : -1.0) * right / e.norm();
+      }
+    }
+  }
+  return n;
+}
+
+template Vec<2> surface_normal<2>(const Geometry&, const Vec<2>&);
+template Vec<3> surface_normal<3>(const Geometry&, const Vec<3>&);
+
 namespace {
 
 // Calls f(position) for each sub-cell centre of the grid that lies inside the body.
+// A 2D lattice rotated by b.lattice_angle about the geometry's anchor (first polygon vertex, box
+// corner or disk centre): seeds at anchor + R ((i + 1/2) s, (j + 1/2) s).
+template <class F>
+void for_each_rotated_seed(const Case& c, const BodySpec& b, F&& f) {
+  const Geometry& g = b.geometry[0];
+  const double s = c.grid.cell_size / b.particles_per_cell;
+  const double ca = std::cos(b.lattice_angle), sa = std::sin(b.lattice_angle);
+  Vec<2> anchor;
+  std::vector<Vec<2>> corners;
+  if (g.kind == Geometry::Kind::polygon) {
+    anchor = Vec<2>(g.vertices[0][0], g.vertices[0][1]);
+    for (const auto& v : g.vertices)
+      corners.emplace_back(v[0], v[1]);
+  } else if (g.kind == Geometry::Kind::box) {
+    anchor = Vec<2>(g.min[0], g.min[1]);
+    corners = {Vec<2>(g.min[0], g.min[1]), Vec<2>(g.max[0], g.min[1]), Vec<2>(g.max[0], g.max[1]),
+               Vec<2>(g.min[0], g.max[1])};
+  } else {
+    anchor = Vec<2>(g.center[0], g.center[1]);
+    for (int k = 0; k < 4; ++k)
+      corners.push_back(anchor + g.radius * Vec<2>(k % 2 ? 1 : -1, k / 2 ? 1 : -1));
+  }
+  // The geometry's extent in lattice coordinates.
+  double lo[2] = {inf, inf}, hi[2] = {-inf, -inf};
+  for (const Vec<2>& x : corners) {
+    const Vec<2> d = x - anchor;
+    const double u = ca * d[0] + sa * d[1], w = -sa * d[0] + ca * d[1];
+    lo[0] = std::min(lo[0], u), hi[0] = std::max(hi[0], u);
+    lo[1] = std::min(lo[1], w), hi[1] = std::max(hi[1], w);
+  }
+  const Vec<2> gmin(c.grid.origin[0], c.grid.origin[1]);
+  const Vec<2> gmax = gmin + Vec<2>(c.grid.extent[0], c.grid.extent[1]);
+  for (auto i = static_cast<std::int64_t>(std::floor(lo[0] / s)) - 1; i * s < hi[0]; ++i)
+    for (auto j = static_cast<std::int64_t>(std::floor(lo[1] / s)) - 1; j * s < hi[1]; ++j) {
+      const double u = (static_cast<double>(i) + 0.5) * s, w = (static_cast<double>(j) + 0.5) * s;
+      const Vec<2> x = anchor + Vec<2>(ca * u - sa * w, sa * u + ca * w);
+      if ((x.array() >= gmin.array()).all() && (x.array() <= gmax.array()).all() && inside<2>(g, x))
+        f(x);
+    }
+}
+
 template <int D, class F>
 void for_each_seed(const Case& c, const BodySpec& b, F&& f) {
+  if constexpr (D == 2) {
+    if (b.lattice_angle != 0.0) {
+      for_each_rotated_seed(c, b, f);
+      return;
+    }
+  }
   const double h = c.grid.cell_size;
   const int n = b.particles_per_cell;
   const double s = h / n;

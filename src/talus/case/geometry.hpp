@@ -15,6 +15,11 @@ bool point_in_polygon(const std::vector<std::array<double, 2>>& poly, double x, 
 template <int D>
 bool inside(const Geometry& g, const Vec<D>& x);
 
+// Outward unit normal of the geometry's surface nearest to x (nearest polygon edge or box face;
+// radial for a disk or sphere). Used as the exact contact normal of rigid bodies.
+template <int D>
+Vec<D> surface_normal(const Geometry& g, const Vec<D>& x);
+
 // Particles of every body, grouped by body in case order. Throws CaseError for an empty body.
 template <int D>
 Particles<D> fill_particles(const Case& c);

@@ -571,6 +571,12 @@ Case parse_case_text(const std::string& text, const std::string& path,
             "must be 1 to 8 (per direction)");
     b.velocity = r.vector("velocity", dim, Vec3a{0.0, 0.0, 0.0});
     b.rigid = r.boolean("rigid", false);
+    if (r.has("lattice_angle")) {
+      if (dim != 2) r.fail("lattice_angle", "a rotated particle lattice is 2D only");
+      const double a = r.number("lattice_angle");
+      require(r, "lattice_angle", std::abs(a) <= 90.0, "must be in [-90, 90] degrees");
+      b.lattice_angle = a * degrees;
+    }
     Vec3a lo{}, hi{};
     bounds(b.geometry[0], dim, lo, hi);
     for (int d = 0; d < dim; ++d) {
