@@ -23,7 +23,8 @@ struct ContactNode {
   bool rigid[max_bodies_at_node]{};
   // A rigid body's outward surface normal from its geometry, if known (zero: use the gradient).
   Vec<D> rigid_normal[max_bodies_at_node];
-  double mu[max_bodies_at_node]{}; // friction of each body against the others
+  double mu[max_bodies_at_node]{};   // friction of each body against the others
+  double rank[max_bodies_at_node]{}; // master-body order: the larger rank gives the normal
 };
 
 // Settings of the contact law.
@@ -63,15 +64,16 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law) {
     c[k].setZero();
     if (node.rigid[k]) continue;
     // The contact normal, outward from body k. A rigid body's exact geometric normal if known.
-    // Two bodies: the mass gradient of the body with more mass at the node (Nairn 2013's
-    // "maximum volume" choice, as densities are similar), which keeps the normals collinear and
-    // is not fooled by the lighter body's corners. Three or more: own gradient minus the others'.
+    // Two bodies: the mass gradient of the master body (the larger rank, i.e. the body with more
+    // total mass, as Huang et al. 2011's master-slave choice), which keeps the normals collinear
+    // and is not fooled by the corners of the smaller body. Three or more: own gradient minus
+    // the others'.
     Vec<D> g;
     if (rigid >= 0 && !node.rigid_normal[rigid].isZero()) {
       g = -node.rigid_normal[rigid];
     } else if (n == 2) {
       const int j = 1 - k;
-      const bool own = rigid < 0 ? node.m[k] > node.m[j] : false;
+      const bool own = rigid < 0 ? node.rank[k] > node.rank[j] : false;
       g = own ? node.grad_m[k] : Vec<D>(-node.grad_m[j]);
     } else {
       g = 2.0 * node.grad_m[k] - G;

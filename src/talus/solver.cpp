@@ -1,6 +1,7 @@
 #include "talus/solver.hpp"
 
 #include "talus/case/geometry.hpp"
+#include "talus/initial_state.hpp"
 #include "talus/shape.hpp"
 
 #include <algorithm>
@@ -44,8 +45,13 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     origin[d] = c.grid.origin[d], extent[d] = c.grid.extent[d];
   grid_ = Grid<D>(origin, extent, c.grid.cell_size);
   particles_ = fill_particles<D>(c);
+  if (c.initial_state.method == InitialState::Method::k0) apply_k0_stress<D>(c, particles_);
   const int B = particles_.num_bodies();
   fields_.resize(B);
+  body_mass_.assign(B, 0.0);
+  for (int b = 0; b < B; ++b)
+    for (std::size_t p = particles_.body_begin[b]; p < particles_.body_begin[b + 1]; ++p)
+      body_mass_[b] += particles_.m[p];
   for (const BodySpec& b : c.bodies) {
     body_material_.push_back(c.materials[b.material]);
     body_lp_.push_back(0.5 * c.grid.cell_size / b.particles_per_cell);
@@ -327,6 +333,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         node.grad_m[k] = N.grad_m[i];
         node.x[k] = N.mx[i] / N.m[i];
         node.rigid[k] = case_data_.bodies[b].rigid;
+        node.rank[k] = body_mass_[b] + 1e-9 * b; // ties broken by body order
         node.rigid_normal[k].setZero();
         if (node.rigid[k]) {
           // The exact normal of the rigid body's geometry, moved with the body.

@@ -93,6 +93,7 @@ private:
   std::vector<double> body_lp_;         // GIMP half-width per body
   std::vector<Vec<D>> rigid_velocity_;  // per body (used if rigid)
   std::vector<double> pair_friction_;   // B x B
+  std::vector<double> body_mass_;       // total mass per body: the master of a contact pair
   GridConditions<D> conditions_;
   ContactLaw contact_law_;
   Vec<D> gravity_ = Vec<D>::Zero();

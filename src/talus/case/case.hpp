@@ -97,6 +97,14 @@ struct OutputSettings {
   std::vector<std::string> fields; // extra VTU fields; empty: all
 };
 
+// How the stress starts. "none": stress-free. "k0": the overburden of each grid column,
+// sigma_v = -|g| (mass above) / (column area), sigma_h = K0 sigma_v with K0 = nu / (1 - nu) of
+// each particle's material unless `k0` is given.
+struct InitialState {
+  enum class Method { none, k0 } method = Method::none;
+  double k0 = -1.0; // < 0: nu / (1 - nu)
+};
+
 struct Case {
   std::string title;
   std::string file; // path of the case file as given
@@ -107,6 +115,7 @@ struct Case {
   std::vector<BodySpec> bodies;
   std::vector<BoundarySpec> boundaries;
   ContactSettings contact;
+  InitialState initial_state;
   std::vector<ProbeSpec> probes;
   OutputSettings output;
 };

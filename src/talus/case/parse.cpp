@@ -652,6 +652,18 @@ Case parse_case_text(const std::string& text, const std::string& path,
     c.probes.push_back(p);
   });
 
+  if (const toml::table* init = root.table("initial_state")) {
+    TableReader ri(*init, "initial_state", where);
+    const std::string method = ri.choice("method", {"none", "k0"}, "none");
+    c.initial_state.method = method == "k0" ? InitialState::Method::k0 : InitialState::Method::none;
+    if (ri.has("k0")) {
+      c.initial_state.k0 = ri.number("k0");
+      require(ri, "k0", c.initial_state.k0 >= 0.0 && c.initial_state.k0 <= 3.0,
+              "must be in [0, 3]");
+    }
+    ri.finish();
+  }
+
   if (const toml::table* out = root.table("output")) {
     TableReader ro(*out, "output", where);
     c.output.every = ro.number("every", 0.0);
