@@ -11,7 +11,8 @@ namespace talus {
 template <int D>
 void apply_k0_stress(const Case& c, Particles<D>& P) {
   double g = 0.0;
-  for (int d = 0; d < D; ++d) g += c.simulation.gravity[d] * c.simulation.gravity[d];
+  for (int d = 0; d < D; ++d)
+    g += c.simulation.gravity[d] * c.simulation.gravity[d];
   g = std::sqrt(g);
   const double h = c.grid.cell_size;
   const double area = std::pow(h, D - 1);
@@ -19,11 +20,13 @@ void apply_k0_stress(const Case& c, Particles<D>& P) {
   std::map<std::vector<std::int64_t>, std::vector<std::size_t>> columns;
   for (std::size_t p = 0; p < P.size(); ++p) {
     std::vector<std::int64_t> key(D - 1);
-    for (int d = 0; d < D - 1; ++d) key[d] = static_cast<std::int64_t>(std::floor((P.x[p][d] - c.grid.origin[d]) / h));
+    for (int d = 0; d < D - 1; ++d)
+      key[d] = static_cast<std::int64_t>(std::floor((P.x[p][d] - c.grid.origin[d]) / h));
     columns[key].push_back(p);
   }
   for (auto& [key, ps] : columns) {
-    std::stable_sort(ps.begin(), ps.end(), [&](std::size_t a, std::size_t b) { return P.x[a][D - 1] > P.x[b][D - 1]; });
+    std::stable_sort(ps.begin(), ps.end(),
+                     [&](std::size_t a, std::size_t b) { return P.x[a][D - 1] > P.x[b][D - 1]; });
     double above = 0.0;
     for (const std::size_t p : ps) {
       const int b = P.body_of(p);
@@ -31,12 +34,14 @@ void apply_k0_stress(const Case& c, Particles<D>& P) {
       above += P.m[p];
       double k0 = c.initial_state.k0;
       if (k0 < 0.0) {
-        const double nu = std::visit([](const auto& m) { return m.poisson_ratio; }, c.materials[c.bodies[b].material].model);
+        const double nu = std::visit([](const auto& m) { return m.poisson_ratio; },
+                                     c.materials[c.bodies[b].material].model);
         k0 = nu / (1.0 - nu);
       }
       if (c.bodies[b].rigid) continue;
       Voigt s = Voigt::Zero();
-      for (int i = 0; i < 3; ++i) s[i] = k0 * sigma_v;
+      for (int i = 0; i < 3; ++i)
+        s[i] = k0 * sigma_v;
       s[D - 1] = sigma_v;
       P.stress[p] = s;
     }
