@@ -25,6 +25,17 @@ struct ContactNode {
   Vec<D> rigid_normal[max_bodies_at_node];
   double mu[max_bodies_at_node]{};   // friction of each body against the others
   double rank[max_bodies_at_node]{}; // master-body order: the larger rank gives the normal
+  // Cohesive interface seen by each body against the others (paper section 2.4, eq. 37): the
+  // cohesive capacity sum N c^p A^p (N) and the tensile capacity (N) of the interface particles
+  // at the node; zero where the pair is purely frictional. The interface's friction is in mu.
+  double cohesion[max_bodies_at_node]{};
+  double tension[max_bodies_at_node]{};
+  // Outputs: outward normal used, and the tangential impulse split into its frictional and
+  // cohesive parts and the normal impulse (N s) applied to each body.
+  Vec<D> normal[max_bodies_at_node];
+  double friction_impulse[max_bodies_at_node]{};
+  double cohesion_impulse[max_bodies_at_node]{};
+  double normal_impulse[max_bodies_at_node]{};
 };
 
 // Settings of the contact law.
@@ -42,7 +53,7 @@ struct ContactLaw {
 // centre-of-mass velocity is theirs and they are never corrected. Returns true if any body was
 // corrected; node.v holds the corrected velocities.
 template <int D>
-bool resolve_contact(ContactNode<D>& node, const ContactLaw& law) {
+bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.0) {
   const int n = node.n;
   if (n < 2) return false;
   double M = 0.0;
@@ -62,6 +73,8 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law) {
   bool any = false;
   for (int k = 0; k < n; ++k) {
     c[k].setZero();
+    node.normal[k].setZero();
+    node.friction_impulse[k] = node.cohesion_impulse[k] = node.normal_impulse[k] = 0.0;
     if (node.rigid[k]) continue;
     // The contact normal, outward from body k. A rigid body's exact geometric normal if known.
     // Two bodies: the mass gradient of the master body (the larger rank, i.e. the body with more
@@ -81,18 +94,37 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law) {
     const double g_norm = g.norm();
     if (g_norm <= 0.0) continue;
     const Vec<D> normal = g / g_norm;
+    node.normal[k] = normal;
     const Vec<D> dv = node.v[k] - v_cm;
     const double dn = dv.dot(normal);
-    if (dn <= 0.0) continue; // separating (eq. 29)
-    if (law.gap_cutoff >= 0.0) {
-      const double m_other = M - node.m[k];
-      const Vec<D> x_other = (MX - node.m[k] * node.x[k]) / m_other;
-      if ((x_other - node.x[k]).dot(normal) > law.gap_cutoff * law.cell_size) continue;
+    // A bonded interface (cohesion or tensile capacity left) holds on approach and separation
+    // alike; otherwise only approaching bodies are in contact (eq. 29), and the gap check keeps
+    // bodies that are still apart out of it.
+    const double cohesion_dv = node.cohesion[k] * dt / node.m[k]; // capacity as a velocity change
+    const double tension_dv = node.tension[k] * dt / node.m[k];
+    const bool bonded = cohesion_dv > 0.0 || tension_dv > 0.0;
+    if (!bonded) {
+      if (dn <= 0.0) continue;
+      if (law.gap_cutoff >= 0.0) {
+        const double m_other = M - node.m[k];
+        const Vec<D> x_other = (MX - node.m[k] * node.x[k]) / m_other;
+        if ((x_other - node.x[k]).dot(normal) > law.gap_cutoff * law.cell_size) continue;
+      }
     }
+    // Normal: remove the approach; a bond also removes a separation up to its tensile capacity.
+    const double dn_corr = dn > 0.0 ? dn : (-dn <= tension_dv ? dn : 0.0);
     const Vec<D> dv_t = dv - dn * normal;
     const double t = dv_t.norm();
-    // Stick if friction can stop the tangential slip, else slide with friction mu * dn.
-    c[k] = node.mu[k] * dn >= t ? dv : Vec<D>(dn * normal + (node.mu[k] * dn / t) * dv_t);
+    // Tangential: friction mu * (normal approach) plus the cohesive capacity (eq. 35-37); stick if
+    // that stops the slip, else slide with the full resistance.
+    const double friction_dv = node.mu[k] * std::max(dn, 0.0);
+    const double resist = friction_dv + cohesion_dv;
+    const double t_corr = resist >= t ? t : resist;
+    c[k] = dn_corr * normal + (t > 0.0 ? Vec<D>((t_corr / t) * dv_t) : Vec<D>::Zero());
+    if (c[k].isZero()) continue;
+    node.normal_impulse[k] = node.m[k] * std::max(dn_corr, 0.0);
+    node.friction_impulse[k] = node.m[k] * std::min(t_corr, friction_dv);
+    node.cohesion_impulse[k] = node.m[k] * (t_corr - std::min(t_corr, friction_dv));
     m_corrected += node.m[k];
     residual += node.m[k] * c[k];
     any = true;

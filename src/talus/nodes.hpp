@@ -22,6 +22,9 @@ struct BodyField {
   std::vector<Vec<D>> v;       // velocity at the start of the step, v_I^n
   std::vector<Vec<D>> v_new;   // velocity at the end of the step, v_I^{n+1} (eq. 20, 31-36)
   std::vector<Vec<D>> v_remap; // MUSL: velocity re-mapped from the updated particles
+  // Interface particles' contributions (paper eq. 37): sum N c^p A^p, sum N t^p A^p (tensile),
+  // sum N mu^p A^p and sum N A^p; and the slip rate found by contact, gathered back as slip.
+  std::vector<double> cohesion, tension, friction_area, area, slip_rate;
 
   std::size_t size() const { return m.size(); }
 
@@ -39,8 +42,10 @@ struct BodyField {
     }
     for (auto* a : {&p, &f, &grad_m, &mx, &v, &v_new, &v_remap})
       a->resize(n);
-    m.resize(n);
-    std::fill(m.begin(), m.end(), 0.0);
+    for (auto* a : {&m, &cohesion, &tension, &friction_area, &area, &slip_rate}) {
+      a->resize(n);
+      std::fill(a->begin(), a->end(), 0.0);
+    }
     for (auto* a : {&p, &f, &grad_m, &mx})
       std::fill(a->begin(), a->end(), Vec<D>::Zero());
   }

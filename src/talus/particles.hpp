@@ -22,6 +22,10 @@ struct Particles {
   std::vector<Mat<D>> F;         // deformation gradient
   std::vector<double> eps_p;     // equivalent plastic strain (0 for elastic materials)
   std::vector<std::uint32_t> id; // stable particle id (index at creation), survives sorting
+  // Interface particles (paper section 2.4): interface index or -1, contact area A^p (length per
+  // unit thickness in 2D), current cohesion c^p (Pa) and friction coefficient, accumulated slip.
+  std::vector<std::int32_t> iface;
+  std::vector<double> iface_area, cohesion, friction, slip;
 
   std::vector<std::size_t> body_begin{0}; // size = bodies + 1
 
@@ -36,7 +40,8 @@ struct Particles {
 
   template <class Fn>
   void for_each_array(Fn&& f) {
-    f(x), f(x0), f(v), f(m), f(vol0), f(vol), f(stress), f(F), f(eps_p), f(id);
+    f(x), f(x0), f(v), f(m), f(vol0), f(vol), f(stress), f(F), f(eps_p), f(id), f(iface),
+        f(iface_area), f(cohesion), f(friction), f(slip);
   }
 
   void push_back(const Vec<D>& pos, const Vec<D>& vel, double mass, double volume) {
@@ -50,6 +55,11 @@ struct Particles {
     F.push_back(Mat<D>::Identity());
     eps_p.push_back(0.0);
     id.push_back(static_cast<std::uint32_t>(id.size()));
+    iface.push_back(-1);
+    iface_area.push_back(0.0);
+    cohesion.push_back(0.0);
+    friction.push_back(0.0);
+    slip.push_back(0.0);
   }
 };
 

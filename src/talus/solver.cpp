@@ -2,6 +2,7 @@
 
 #include "talus/case/geometry.hpp"
 #include "talus/initial_state.hpp"
+#include "talus/interface.hpp"
 #include "talus/shape.hpp"
 
 #include <algorithm>
@@ -46,6 +47,7 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   grid_ = Grid<D>(origin, extent, c.grid.cell_size);
   particles_ = fill_particles<D>(c);
   if (c.initial_state.method == InitialState::Method::k0) apply_k0_stress<D>(c, particles_);
+  mark_interface_particles<D>(c, particles_);
   const int B = particles_.num_bodies();
   fields_.resize(B);
   body_mass_.assign(B, 0.0);
@@ -61,6 +63,11 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     rigid_velocity_.push_back(v);
   }
   pair_friction_.assign(B * B, c.contact.friction);
+  pair_interface_.assign(B * B, -1);
+  for (std::size_t f = 0; f < c.interfaces.size(); ++f)
+    pair_interface_[c.interfaces[f].a * B + c.interfaces[f].b] =
+        pair_interface_[c.interfaces[f].b * B + c.interfaces[f].a] = static_cast<int>(f);
+  interface_force_.assign(c.interfaces.size(), InterfaceForce{});
   for (const ContactPair& pair : c.contact.pairs)
     pair_friction_[pair.a * B + pair.b] = pair_friction_[pair.b * B + pair.a] = pair.friction;
   contact_law_.gap_cutoff = c.contact.gap_cutoff;
@@ -206,6 +213,18 @@ void Simulation<D>::map_particles_to_nodes(bool with_forces) {
       N.grad_m[I] += m_p * dN_I;
       if (with_forces) N.f[I] += N_I * mg - Vsigma * dN_I;
     });
+    if (P.iface[p] >= 0) { // eq. 37: the interface particle's share of the node's capacity
+      const InterfaceSpec& spec = case_data_.interfaces[P.iface[p]];
+      const double A = P.iface_area[p];
+      const double cA = P.cohesion[p] * A, tA = tensile_strength(spec, P.cohesion[p]) * A;
+      const double muA = P.friction[p] * A;
+      for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+        N.cohesion[I] += N_I * cA;
+        N.tension[I] += N_I * tA;
+        N.friction_area[I] += N_I * muA;
+        N.area[I] += N_I * A;
+      });
+    }
   });
 }
 
@@ -311,10 +330,16 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         lo[d] = any ? std::min(lo[d], l[d]) : l[d], hi[d] = any ? std::max(hi[d], h[d]) : h[d];
       any = true;
     }
-  if (record) std::fill(contact_force_.begin(), contact_force_.end(), Vec<D>::Zero());
+  if (record) {
+    std::fill(contact_force_.begin(), contact_force_.end(), Vec<D>::Zero());
+    std::fill(interface_force_.begin(), interface_force_.end(), InterfaceForce{});
+  }
   if (!any) return;
   const std::int64_t rows = hi[0] - lo[0];
-  if (record) contact_rows_.assign(rows * B * B, Vec<D>::Zero());
+  if (record) {
+    contact_rows_.assign(rows * B * B, Vec<D>::Zero());
+    interface_rows_.assign(rows * interface_force_.size(), InterfaceForce{});
+  }
 #pragma omp parallel for schedule(dynamic, 4)
   for (std::int64_t r = 0; r < rows; ++r) {
     Index<D> g = lo;
@@ -348,11 +373,24 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
           for (int j = 0; j < node.n; ++j)
             if (j != k && node.m[j] > node.m[other]) other = j;
           node.mu[k] = pair_friction_[node.body[k] * B + node.body[other]];
+          // An interface pair: the slave body's interface particles give the capacities and the
+          // friction at this node (the slave: the lower rank, as for the normal).
+          node.cohesion[k] = node.tension[k] = 0.0;
+          if (pair_interface_[node.body[k] * B + node.body[other]] >= 0) {
+            const int s = node.rank[k] < node.rank[other] ? k : other;
+            const BodyField<D>& S = fields_[node.body[s]];
+            const std::int64_t i = local[s];
+            if (S.area[i] > 0.0) {
+              node.mu[k] = S.friction_area[i] / S.area[i];
+              node.cohesion[k] = S.cohesion[i];
+              node.tension[k] = S.tension[i];
+            }
+          }
         }
         Vec<D> before[max_bodies_at_node];
         for (int k = 0; k < node.n; ++k)
           before[k] = node.v[k];
-        if (resolve_contact(node, contact_law_)) {
+        if (resolve_contact(node, contact_law_, dt)) {
           for (int k = 0; k < node.n; ++k) {
             (fields_[node.body[k]].*velocity)[local[k]] = node.v[k];
             if (!record) continue;
@@ -361,6 +399,17 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
               if (j != k && node.m[j] > node.m[other]) other = j;
             contact_rows_[(r * B + node.body[k]) * B + node.body[other]] +=
                 node.m[k] * (node.v[k] - before[k]) / dt;
+            // Slip rate: the tangential relative velocity after contact (eq. 38-39, as slip).
+            const Vec<D> rel = node.v[k] - node.v[other];
+            const Vec<D>& nrm = node.normal[k];
+            fields_[node.body[k]].slip_rate[local[k]] = (rel - rel.dot(nrm) * nrm).norm();
+            const int f = pair_interface_[node.body[k] * B + node.body[other]];
+            if (f >= 0 && node.rank[k] < node.rank[other]) { // the slave side, counted once
+              InterfaceForce& row = interface_rows_[r * interface_force_.size() + f];
+              row.cohesive += node.cohesion_impulse[k] / dt;
+              row.frictional += node.friction_impulse[k] / dt;
+              row.normal += node.normal_impulse[k] / dt;
+            }
           }
         }
       }
@@ -370,10 +419,20 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
       if (d < 1) break;
     }
   }
-  if (record)
+  if (record) {
     for (std::int64_t r = 0; r < rows; ++r)
       for (int k = 0; k < B * B; ++k)
         contact_force_[k] += contact_rows_[r * B * B + k];
+    const std::size_t F = interface_force_.size();
+    for (std::size_t f = 0; f < F; ++f) {
+      interface_force_[f] = InterfaceForce{};
+      for (std::int64_t r = 0; r < rows; ++r) {
+        interface_force_[f].cohesive += interface_rows_[r * F + f].cohesive;
+        interface_force_[f].frictional += interface_rows_[r * F + f].frictional;
+        interface_force_[f].normal += interface_rows_[r * F + f].normal;
+      }
+    }
+  }
   // Velocity conditions have the last word over contact.
   for (int b = 0; b < B; ++b)
     apply_grid_conditions<D>(conditions_, b, fields_[b], fields_[b].*velocity);
@@ -422,6 +481,16 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
       if (what.strain_rate) L += (N.*what.strain_rate)[I] * dN_I.transpose();
     });
     if (what.velocity) P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
+    if (what.velocity && P.iface[p] >= 0) { // slip back to the interface particle; degrade
+      double rate = 0.0;
+      for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+        rate += N_I * N.slip_rate[I];
+      });
+      const InterfaceSpec& spec = case_data_.interfaces[P.iface[p]];
+      P.slip[p] += rate * dt;
+      P.cohesion[p] = spec.cohesion.at(P.slip[p], spec.curve);
+      P.friction[p] = spec.friction.at(P.slip[p], spec.curve);
+    }
     if (what.move) P.x[p] += 0.5 * dt * (v_old + v_new);
     if (model) {
       P.F[p] = (Mat<D>::Identity() + L * dt) * P.F[p];

@@ -22,6 +22,12 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+// Total forces of an interface pair in one step (N, per unit thickness in 2D): the cohesive and
+// frictional parts of the tangential resistance and the normal force (paper Figure 5a).
+struct InterfaceForce {
+  double cohesive = 0, frictional = 0, normal = 0;
+};
+
 // Wall time spent in each phase of the step, for the benchmark.
 struct PhaseTimes {
   double p2g = 0, grid = 0, contact = 0, g2p = 0, stress = 0, other = 0;
@@ -47,6 +53,7 @@ public:
   // Contact force on body a from body b in the last step: contact_force(a, b).
   const Vec<D>& contact_force(int a, int b) const { return contact_force_[a * num_bodies() + b]; }
   int num_bodies() const { return particles_.num_bodies(); }
+  const std::vector<InterfaceForce>& interface_forces() const { return interface_force_; }
 
   // The stable time step of the current state (CFL) or the fixed one.
   double compute_time_step() const;
@@ -106,8 +113,11 @@ private:
   std::vector<std::size_t> bin_offset_;
   std::vector<std::uint32_t> particle_bin_;
 
-  std::vector<Vec<D>> contact_force_; // B x B, last step
-  std::vector<Vec<D>> contact_rows_;  // per grid row x B x B, summed in row order
+  std::vector<Vec<D>> contact_force_;           // B x B, last step
+  std::vector<int> pair_interface_;             // B x B: interface index or -1
+  std::vector<InterfaceForce> interface_force_; // per interface, last step
+  std::vector<InterfaceForce> interface_rows_;  // per grid row x interface
+  std::vector<Vec<D>> contact_rows_;            // per grid row x B x B, summed in row order
 
   double time_ = 0.0;
   double dt_ = 0.0;

@@ -31,8 +31,8 @@ TEST(Contact, FrictionlessRemovesOnlyTheNormalApproach) {
   ContactNode<2> node = two_bodies(0.0);
   const Vec<2> p0 = node.m[0] * node.v[0] + node.m[1] * node.v[1];
   ASSERT_TRUE(resolve_contact(node, ContactLaw{-1.0, 1.0}));
-  EXPECT_DOUBLE_EQ(node.v[0][1], node.v[1][1]);         // same normal velocity
-  EXPECT_NE(node.v[0][0], node.v[1][0]);                // tangential slip kept
+  EXPECT_DOUBLE_EQ(node.v[0][1], node.v[1][1]); // same normal velocity
+  EXPECT_NE(node.v[0][0], node.v[1][0]);        // tangential slip kept
   const Vec<2> p1 = node.m[0] * node.v[0] + node.m[1] * node.v[1];
   EXPECT_LT((p1 - p0).norm(), 1e-14);
   // Centre of mass normal velocity: (2 * -2 + 0) / 8 = -0.5.
@@ -65,10 +65,10 @@ TEST(Contact, SeparatingBodiesAreLeftAlone) {
 
 TEST(Contact, GapCheckIgnoresBodiesThatAreStillApart) {
   ContactNode<2> node = two_bodies(0.0);
-  node.x[0] = Vec<2>(0.0, 0.5);  // mean positions 1.5 cells apart along the normal
+  node.x[0] = Vec<2>(0.0, 0.5); // mean positions 1.5 cells apart along the normal
   node.x[1] = Vec<2>(0.0, -1.0);
   EXPECT_FALSE(resolve_contact(node, ContactLaw{0.8, 1.0}));
-  node.x[0] = Vec<2>(0.0, 0.3);  // 0.7 cells: in contact
+  node.x[0] = Vec<2>(0.0, 0.3); // 0.7 cells: in contact
   node.x[1] = Vec<2>(0.0, -0.4);
   EXPECT_TRUE(resolve_contact(node, ContactLaw{0.8, 1.0}));
 }
@@ -103,19 +103,22 @@ TEST(Contact, ThreeBodiesAtOneNodeConserveMomentum) {
     node.mu[k] = 0.3;
   }
   Vec<2> p0 = Vec<2>::Zero();
-  for (int k = 0; k < 3; ++k) p0 += node.m[k] * node.v[k];
+  for (int k = 0; k < 3; ++k)
+    p0 += node.m[k] * node.v[k];
   double approach_before = 0, approach_after = 0;
   auto approach = [&](const ContactNode<2>& nd) {
     double a = 0;
     for (int i = 0; i < 3; ++i)
-      for (int j = i + 1; j < 3; ++j) a += std::max(0.0, (nd.v[i] - nd.v[j]).dot(dirs[j] - dirs[i]));
+      for (int j = i + 1; j < 3; ++j)
+        a += std::max(0.0, (nd.v[i] - nd.v[j]).dot(dirs[j] - dirs[i]));
     return a;
   };
   approach_before = approach(node);
   ASSERT_TRUE(resolve_contact(node, ContactLaw{-1.0, 1.0}));
   approach_after = approach(node);
   Vec<2> p1 = Vec<2>::Zero();
-  for (int k = 0; k < 3; ++k) p1 += node.m[k] * node.v[k];
+  for (int k = 0; k < 3; ++k)
+    p1 += node.m[k] * node.v[k];
   EXPECT_LT((p1 - p0).norm(), 1e-13);
   EXPECT_LT(approach_after, 0.05 * approach_before);
 }

@@ -15,21 +15,25 @@ constexpr double g = 9.81;
 
 // Runs a two-body case (body 0 the mover) and returns the centroid displacement of body 0
 // along the plane direction (cos theta, -sin theta) at each time.
-std::vector<double> run_along_plane(const std::string& file, const std::vector<std::string>& overrides,
-                                    double theta, const std::vector<double>& times) {
-  const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/" + file, overrides);
+std::vector<double> run_along_plane(const std::string& file,
+                                    const std::vector<std::string>& overrides, double theta,
+                                    const std::vector<double>& times) {
+  const Case c =
+      parse_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/" + file, overrides);
   Simulation<2> sim(c);
   const auto& P = sim.particles();
   auto centroid = [&] {
     double m = 0;
     Vec<2> mx = Vec<2>::Zero();
-    for (std::size_t p = P.body_begin[0]; p < P.body_begin[1]; ++p) m += P.m[p], mx += P.m[p] * P.x[p];
+    for (std::size_t p = P.body_begin[0]; p < P.body_begin[1]; ++p)
+      m += P.m[p], mx += P.m[p] * P.x[p];
     return Vec<2>(mx / m);
   };
   const Vec<2> x0 = centroid(), dir(std::cos(theta), -std::sin(theta));
   std::vector<double> out;
   for (double t : times) {
-    while (sim.time() < t - 1e-12) sim.step(t - sim.time());
+    while (sim.time() < t - 1e-12)
+      sim.step(t - sim.time());
     out.push_back((centroid() - x0).dot(dir));
   }
   return out;
@@ -39,12 +43,14 @@ TEST(SlidingBlock, RigidPlaneWithinHalfAPercent) {
   const double theta = std::numbers::pi / 6.0;
   const std::vector<double> times = {0.5, 1.0, 1.5, 2.0};
   for (double mu : {0.0, 0.087, 0.174, 0.267}) {
-    const auto x = run_along_plane("sliding_block.toml", {fmt::format("contact.0.friction={}", mu)}, theta, times);
+    const auto x = run_along_plane("sliding_block.toml", {fmt::format("contact.0.friction={}", mu)},
+                                   theta, times);
     for (std::size_t i = 0; i < times.size(); ++i) {
       const double t = times[i];
       const double exact = 0.5 * g * t * t * (std::sin(theta) - mu * std::cos(theta));
       const double err = (x[i] - exact) / exact;
-      std::printf("sliding block, rigid plane, mu %.3f, t %.1f s: %.4f m (closed form %.4f), error %+.3f %%\n",
+      std::printf("sliding block, rigid plane, mu %.3f, t %.1f s: %.4f m (closed form %.4f), error "
+                  "%+.3f %%\n",
                   mu, t, x[i], exact, 100 * err);
       EXPECT_LT(std::abs(err), 0.005);
     }
@@ -64,10 +70,12 @@ TEST(RollingDisk, ThreeTrialsWithinTwoPercent) {
     const auto x = run_along_plane(fmt::format("rolling_disk_{:.0f}.toml", tr.degrees),
                                    {fmt::format("contact.0.friction={}", tr.mu)}, theta, {1.0});
     const bool rolls = std::tan(theta) <= 3.0 * tr.mu;
-    const double exact = rolls ? g * std::sin(theta) / 3.0 : 0.5 * g * (std::sin(theta) - tr.mu * std::cos(theta));
+    const double exact =
+        rolls ? g * std::sin(theta) / 3.0 : 0.5 * g * (std::sin(theta) - tr.mu * std::cos(theta));
     const double err = (x[0] - exact) / exact;
-    std::printf("rolling disk %.0f deg, mu %.2f (%s): %.4f m at 1 s (closed form %.4f), error %+.3f %%\n",
-                tr.degrees, tr.mu, rolls ? "rolls" : "slips", x[0], exact, 100 * err);
+    std::printf(
+        "rolling disk %.0f deg, mu %.2f (%s): %.4f m at 1 s (closed form %.4f), error %+.3f %%\n",
+        tr.degrees, tr.mu, rolls ? "rolls" : "slips", x[0], exact, 100 * err);
     EXPECT_LT(std::abs(err), 0.02);
   }
 }
@@ -103,7 +111,8 @@ velocity = [-1.0, 0.0]
   auto totals = [&](double& ke) {
     Vec<2> p = Vec<2>::Zero();
     ke = 0;
-    for (std::size_t i = 0; i < P.size(); ++i) p += P.m[i] * P.v[i], ke += 0.5 * P.m[i] * P.v[i].squaredNorm();
+    for (std::size_t i = 0; i < P.size(); ++i)
+      p += P.m[i] * P.v[i], ke += 0.5 * P.m[i] * P.v[i].squaredNorm();
     return p;
   };
   double ke0, ke1;
@@ -113,20 +122,25 @@ velocity = [-1.0, 0.0]
     sim.step(0.6 - sim.time());
     // The rightmost particle of the left disk stays left of the leftmost of the right disk.
     double right_of_left = -1e9, left_of_right = 1e9;
-    for (std::size_t i = P.body_begin[0]; i < P.body_begin[1]; ++i) right_of_left = std::max(right_of_left, P.x[i][0]);
-    for (std::size_t i = P.body_begin[1]; i < P.body_begin[2]; ++i) left_of_right = std::min(left_of_right, P.x[i][0]);
+    for (std::size_t i = P.body_begin[0]; i < P.body_begin[1]; ++i)
+      right_of_left = std::max(right_of_left, P.x[i][0]);
+    for (std::size_t i = P.body_begin[1]; i < P.body_begin[2]; ++i)
+      left_of_right = std::min(left_of_right, P.x[i][0]);
     min_overlap_gap = std::min(min_overlap_gap, left_of_right - right_of_left);
   }
   const Vec<2> p1 = totals(ke1);
   double mass = 0;
-  for (std::size_t i = 0; i < P.size(); ++i) mass += P.m[i];
-  std::printf("disk collision: momentum change %.3e kg m/s (of %.3g kg x 1 m/s), kinetic energy after "
-              "/ before = %.3f, closest approach of the two disks' particles %.4f m\n",
-              (p1 - p0).norm(), mass / 2, ke1 / ke0, min_overlap_gap);
+  for (std::size_t i = 0; i < P.size(); ++i)
+    mass += P.m[i];
+  std::printf(
+      "disk collision: momentum change %.3e kg m/s (of %.3g kg x 1 m/s), kinetic energy after "
+      "/ before = %.3f, closest approach of the two disks' particles %.4f m\n",
+      (p1 - p0).norm(), mass / 2, ke1 / ke0, min_overlap_gap);
   EXPECT_LT((p1 - p0).norm(), 1e-10 * mass);
   EXPECT_GT(min_overlap_gap, 0.0);
   double v_left = 0, m_left = 0;
-  for (std::size_t i = P.body_begin[0]; i < P.body_begin[1]; ++i) v_left += P.m[i] * P.v[i][0], m_left += P.m[i];
+  for (std::size_t i = P.body_begin[0]; i < P.body_begin[1]; ++i)
+    v_left += P.m[i] * P.v[i][0], m_left += P.m[i];
   EXPECT_LT(v_left / m_left, 0.0); // the disks have bounced apart
 }
 

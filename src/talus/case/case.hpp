@@ -70,6 +70,25 @@ struct ContactPair {
   double friction = 0.0;
 };
 
+// How an interface property degrades with slip s from its initial value v0 to its residual vr
+// over the slip s_c (paper Figure 11): linear, bilinear (held at v0 until s_c / 2, then linear
+// to vr at s_c) or exponential (vr + (v0 - vr) exp(-3 s / s_c), 95 % degraded at s_c).
+enum class DegradationCurve { linear, bilinear, exponential };
+
+struct Degradation {
+  double initial = 0.0, residual = 0.0, slip = 1.0;
+  double at(double s, DegradationCurve curve) const;
+};
+
+// A cohesive-frictional interface between two bodies (paper section 2.4).
+struct InterfaceSpec {
+  int a = 0, b = 0;
+  Degradation friction; // coefficient
+  Degradation cohesion; // Pa
+  DegradationCurve curve = DegradationCurve::linear;
+  double tensile_strength = -1; // Pa, degrades with the cohesion; < 0: equal to the cohesion
+};
+
 struct ContactSettings {
   double friction = 0.0;   // default Coulomb coefficient
   double gap_cutoff = 0.8; // cells; < 0 switches the gap check off
@@ -115,6 +134,7 @@ struct Case {
   std::vector<BodySpec> bodies;
   std::vector<BoundarySpec> boundaries;
   ContactSettings contact;
+  std::vector<InterfaceSpec> interfaces;
   InitialState initial_state;
   std::vector<ProbeSpec> probes;
   OutputSettings output;

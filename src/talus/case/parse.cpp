@@ -12,6 +12,19 @@
 
 namespace talus {
 
+double Degradation::at(double s, DegradationCurve curve) const {
+  const double r = s / slip;
+  switch (curve) {
+  case DegradationCurve::linear:
+    return initial + (residual - initial) * std::min(1.0, r);
+  case DegradationCurve::bilinear:
+    return r <= 0.5 ? initial : initial + (residual - initial) * std::min(1.0, 2.0 * r - 1.0);
+  case DegradationCurve::exponential:
+    return residual + (initial - residual) * std::exp(-3.0 * r);
+  }
+  return initial;
+}
+
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> row(b.size() + 1);
   for (std::size_t j = 0; j <= b.size(); ++j)
@@ -644,6 +657,49 @@ Case parse_case_text(const std::string& text, const std::string& path,
     c.contact.pairs.push_back(pair);
   });
 
+  // [[interface]]: cohesive-frictional pairs.
+  for_each_entry(root, "interface", [&](TableReader& r, std::size_t) {
+    InterfaceSpec f;
+    const toml::array* a = r.array("bodies");
+    if (!a || a->size() != 2 || !a->get(0)->is_string() || !a->get(1)->is_string())
+      r.fail("bodies", "expected two body names, e.g. bodies = [\"slide\", \"bedrock\"]");
+    int ids[2];
+    for (int k = 0; k < 2; ++k) {
+      const std::string name = a->get(k)->value<std::string>().value();
+      const auto it = std::find(body_names.begin(), body_names.end(), name);
+      if (it == body_names.end())
+        r.fail("bodies", fmt::format("no body is named '{}'{}", name, suggest(name, body_names)));
+      ids[k] = static_cast<int>(it - body_names.begin());
+    }
+    if (ids[0] == ids[1]) r.fail("bodies", "an interface needs two different bodies");
+    f.a = ids[0], f.b = ids[1];
+    auto degradation = [&](const std::string& key, const std::string& unit) {
+      const toml::table* t = r.table(key);
+      if (!t) r.fail_missing(key);
+      TableReader d(*t, r.key_path(key), r.where());
+      Degradation g;
+      g.initial = d.number("initial");
+      require(d, "initial", g.initial >= 0.0, "must be >= 0 " + unit);
+      g.residual = d.number("residual", g.initial);
+      require(d, "residual", g.residual >= 0.0 && g.residual <= g.initial,
+              "must be in [0, initial]");
+      g.slip = d.number("slip", 1.0);
+      require(d, "slip", g.slip > 0.0, "must be > 0 m");
+      d.finish();
+      return g;
+    };
+    f.friction = degradation("friction", "");
+    f.cohesion = degradation("cohesion", "Pa");
+    const std::string curve = r.choice("curve", {"linear", "bilinear", "exponential"}, "linear");
+    f.curve = curve == "bilinear"      ? DegradationCurve::bilinear
+              : curve == "exponential" ? DegradationCurve::exponential
+                                       : DegradationCurve::linear;
+    f.tensile_strength = r.number("tensile_strength", -1.0);
+    if (r.has("tensile_strength"))
+      require(r, "tensile_strength", f.tensile_strength >= 0.0, "must be >= 0 Pa");
+    c.interfaces.push_back(f);
+  });
+
   for_each_entry(root, "probe", [&](TableReader& r, std::size_t i) {
     ProbeSpec p;
     p.name = r.string("name", fmt::format("probe{}", i));
@@ -670,9 +726,9 @@ Case parse_case_text(const std::string& text, const std::string& path,
     require(ro, "every", c.output.every >= 0.0, "must be >= 0 s");
     c.output.particles = ro.boolean("particles", true);
     if (const toml::array* f = ro.array("fields")) {
-      const std::vector<std::string> known = {"velocity", "stress",  "displacement",
-                                              "mass",     "volume",  "plastic_strain",
-                                              "body",     "material"};
+      const std::vector<std::string> known = {"velocity", "stress",   "displacement",
+                                              "mass",     "volume",   "plastic_strain",
+                                              "body",     "material", "interface"};
       for (std::size_t i = 0; i < f->size(); ++i) {
         const auto s = f->get(i)->value<std::string>();
         if (!s || std::find(known.begin(), known.end(), *s) == known.end())

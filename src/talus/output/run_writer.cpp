@@ -46,6 +46,8 @@ RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::m
   energy_ = "time,step,dt,kinetic_energy" + components<D>("momentum_") + "\n";
   bodies_ = "time,body,mass" + components<D>("centroid_") + components<D>("velocity_") +
             ",mean_speed,max_speed,kinetic_energy\n";
+  contacts_ = "time,body,other" + components<D>("force_") + "\n";
+  interfaces_ = "time,interface,cohesive_force,frictional_force,normal_force\n";
   probes_ = "time,probe" + components<D>("") + components<D>("velocity_") + ",speed,displacement\n";
 }
 
@@ -76,6 +78,18 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
   }
   energy_ += fmt::format("{:.10g},{},{:.10g},{:.10g}{}\n", t, sim.steps(), sim.last_dt(), ke_total,
                          join<D>(mom_total));
+  const int B = P.num_bodies();
+  for (int a = 0; a < B; ++a)
+    for (int b = 0; b < B; ++b)
+      if (a != b && !sim.contact_force(a, b).isZero())
+        contacts_ += fmt::format("{:.10g},{},{}{}\n", t, c.bodies[a].name, c.bodies[b].name,
+                                 join<D>(sim.contact_force(a, b)));
+  for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
+    const InterfaceForce& F = sim.interface_forces()[f];
+    interfaces_ +=
+        fmt::format("{:.10g},{}-{},{:.10g},{:.10g},{:.10g}\n", t, c.bodies[c.interfaces[f].a].name,
+                    c.bodies[c.interfaces[f].b].name, F.cohesive, F.frictional, F.normal);
+  }
   for (std::size_t k = 0; k < probe_ids_.size(); ++k) {
     std::size_t p = 0;
     while (P.id[p] != probe_ids_[k])
@@ -95,6 +109,8 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
   write_file_atomic(dir_ + "/energy.csv", energy_);
   write_file_atomic(dir_ + "/bodies.csv", bodies_);
   if (!probe_ids_.empty()) write_file_atomic(dir_ + "/probes.csv", probes_);
+  if (B > 1) write_file_atomic(dir_ + "/contacts.csv", contacts_);
+  if (!c.interfaces.empty()) write_file_atomic(dir_ + "/interfaces.csv", interfaces_);
 }
 
 template <int D>

@@ -27,7 +27,7 @@ public:
 private:
   std::string dir_;
   std::vector<std::uint32_t> probe_ids_;
-  std::string energy_, bodies_, probes_;
+  std::string energy_, bodies_, probes_, contacts_, interfaces_;
   std::vector<std::pair<double, std::string>> frames_;
 };
 

@@ -1,0 +1,23 @@
+// Cohesive-frictional interfaces (paper section 2.4): which particles carry an interface, and how
+// their cohesion and friction degrade with the slip they accumulate.
+#pragma once
+
+#include "talus/case/case.hpp"
+#include "talus/particles.hpp"
+
+namespace talus {
+
+// Marks, for each [[interface]] (a, b), the particles of a that have a particle of b within 1.5
+// particle spacings, and vice versa: the first row of each body along the shared boundary. Each
+// gets the contact area of its face, A^p = s^(D-1) (s the particle spacing of its body), and the
+// interface's initial cohesion and friction.
+template <int D>
+void mark_interface_particles(const Case& c, Particles<D>& P);
+
+// Tensile strength of an interface particle with current cohesion c (degrades with it).
+inline double tensile_strength(const InterfaceSpec& f, double c) {
+  if (f.tensile_strength < 0.0) return c;
+  return f.cohesion.initial > 0.0 ? f.tensile_strength * c / f.cohesion.initial : f.tensile_strength;
+}
+
+} // namespace talus
