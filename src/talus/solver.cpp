@@ -47,6 +47,9 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   grid_ = Grid<D>(origin, extent, c.grid.cell_size);
   particles_ = fill_particles<D>(c);
   if (c.initial_state.method == InitialState::Method::k0) apply_k0_stress<D>(c, particles_);
+  index_of_id_.resize(particles_.size());
+  for (std::size_t p = 0; p < particles_.size(); ++p)
+    index_of_id_[particles_.id[p]] = static_cast<std::uint32_t>(p);
   mark_interface_particles<D>(c, particles_);
   const int B = particles_.num_bodies();
   fields_.resize(B);
@@ -137,6 +140,9 @@ void Simulation<D>::sort_particles_by_cell() {
     std::stable_sort(order.begin() + P.body_begin[b], order.begin() + P.body_begin[b + 1],
                      [&](std::uint32_t i, std::uint32_t j) { return key[i] < key[j]; });
   P.for_each_array([&](auto& a) { permute(a, order); });
+  index_of_id_.resize(P.size());
+  for (std::size_t p = 0; p < P.size(); ++p)
+    index_of_id_[P.id[p]] = static_cast<std::uint32_t>(p);
 }
 
 template <int D>
@@ -272,7 +278,7 @@ void Simulation<D>::map_momentum_to_nodes() {
 // local damping and the velocity conditions applied to both.
 template <int D>
 void Simulation<D>::compute_node_velocities(double dt) {
-  const double alpha = case_data_.simulation.damping;
+  const double alpha = settling_ ? case_data_.initial_state.settle_damping : case_data_.simulation.damping;
   for (int b = 0; b < num_bodies(); ++b) {
     BodyField<D>& N = fields_[b];
     const std::int64_t n = static_cast<std::int64_t>(N.size());
@@ -481,7 +487,7 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
       if (what.strain_rate) L += (N.*what.strain_rate)[I] * dN_I.transpose();
     });
     if (what.velocity) P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
-    if (what.velocity && P.iface[p] >= 0) { // slip back to the interface particle; degrade
+    if (what.velocity && P.iface[p] >= 0 && !settling_) { // slip back to the interface particle; degrade
       double rate = 0.0;
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
         rate += N_I * N.slip_rate[I];
@@ -559,6 +565,13 @@ void Simulation<D>::step(double dt_limit) {
   }
   time_ += dt_;
   ++steps_;
+}
+
+template <int D>
+void Simulation<D>::release() {
+  settling_ = false;
+  time_ = 0.0;
+  particles_.x0 = particles_.x;
 }
 
 template <int D>

@@ -55,8 +55,16 @@ public:
   int num_bodies() const { return particles_.num_bodies(); }
   const std::vector<InterfaceForce>& interface_forces() const { return interface_force_; }
 
+  // Settling (initial_state.settle_time): damped, interfaces held. release() ends it: time
+  // restarts at 0 and displacements are measured from the current positions.
+  void set_settling(bool on) { settling_ = on; }
+  bool settling() const { return settling_; }
+  void release();
+
   // The stable time step of the current state (CFL) or the fixed one.
   double compute_time_step() const;
+  // Current index of the particle with stable id `id`.
+  std::size_t index_of(std::uint32_t id) const { return index_of_id_[id]; }
   // Index of the particle nearest `point` in body b (for probes).
   std::size_t nearest_particle(int body, const Vec<D>& point) const;
 
@@ -123,6 +131,8 @@ private:
   double dt_ = 0.0;
   std::int64_t steps_ = 0;
   int sort_interval_ = 20;
+  bool settling_ = false;
+  std::vector<std::uint32_t> index_of_id_;
   PhaseTimes phase_times_;
 };
 

@@ -119,9 +119,22 @@ struct OutputSettings {
 // How the stress starts. "none": stress-free. "k0": the overburden of each grid column,
 // sigma_v = -|g| (mass above) / (column area), sigma_h = K0 sigma_v with K0 = nu / (1 - nu) of
 // each particle's material unless `k0` is given.
+// Then, optionally, a settling phase of settle_time seconds with local damping settle_damping
+// and the interfaces held (no slip accumulates, so nothing degrades); time restarts at 0 when
+// it ends ("release") and displacements are measured from there.
 struct InitialState {
   enum class Method { none, k0 } method = Method::none;
   double k0 = -1.0; // < 0: nu / (1 - nu)
+  double settle_time = 0.0;
+  double settle_damping = 0.2;
+};
+
+// Headline figures of a run (summary.json "results"): the motion of one body and its probes.
+// Run-out duration: from release until the body's mass-averaged speed falls below stop_speed
+// for the last time.
+struct ResultsSpec {
+  int body = -1;            // -1: no results
+  double stop_speed = 0.5;  // m/s
 };
 
 struct Case {
@@ -136,6 +149,7 @@ struct Case {
   ContactSettings contact;
   std::vector<InterfaceSpec> interfaces;
   InitialState initial_state;
+  ResultsSpec results;
   std::vector<ProbeSpec> probes;
   OutputSettings output;
 };

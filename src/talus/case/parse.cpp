@@ -717,7 +717,21 @@ Case parse_case_text(const std::string& text, const std::string& path,
       require(ri, "k0", c.initial_state.k0 >= 0.0 && c.initial_state.k0 <= 3.0,
               "must be in [0, 3]");
     }
+    c.initial_state.settle_time = ri.number("settle_time", 0.0);
+    require(ri, "settle_time", c.initial_state.settle_time >= 0.0, "must be >= 0 s");
+    c.initial_state.settle_damping = ri.number("settle_damping", 0.2);
+    require(ri, "settle_damping",
+            c.initial_state.settle_damping >= 0.0 && c.initial_state.settle_damping < 1.0,
+            "must be in [0, 1)");
     ri.finish();
+  }
+
+  if (const toml::table* res = root.table("results")) {
+    TableReader rr(*res, "results", where);
+    c.results.body = lookup(rr, "body", body_names, "body");
+    c.results.stop_speed = rr.number("stop_speed", 0.5);
+    require(rr, "stop_speed", c.results.stop_speed > 0.0, "must be > 0 m/s");
+    rr.finish();
   }
 
   if (const toml::table* out = root.table("output")) {
