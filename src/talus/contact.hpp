@@ -21,8 +21,9 @@ struct ContactNode {
   Vec<D> grad_m[max_bodies_at_node]; // sum m_p grad N_I(x_p): points out of the body
   Vec<D> x[max_bodies_at_node];      // mass-weighted nodal position (gap check)
   bool rigid[max_bodies_at_node]{};
-  // A rigid body's outward surface normal from its geometry, if known (zero: use the gradient).
-  Vec<D> rigid_normal[max_bodies_at_node];
+  // A body's outward surface normal from its geometry, if it has one (rigid bodies, and bodies
+  // with geometric_normal = true); zero: use the mass gradient.
+  Vec<D> surface_normal[max_bodies_at_node];
   double mu[max_bodies_at_node]{};   // friction of each body against the others
   double rank[max_bodies_at_node]{}; // master-body order: the larger rank gives the normal
   // Cohesive interface seen by each body against the others (paper section 2.4, eq. 37): the
@@ -82,8 +83,9 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
     // and is not fooled by the corners of the smaller body. Three or more: own gradient minus
     // the others'.
     Vec<D> g;
-    if (rigid >= 0 && !node.rigid_normal[rigid].isZero()) {
-      g = -node.rigid_normal[rigid];
+    const int master = rigid >= 0 ? rigid : (n == 2 ? (node.rank[0] > node.rank[1] ? 0 : 1) : -1);
+    if (master >= 0 && !node.surface_normal[master].isZero()) {
+      g = master == k ? node.surface_normal[k] : Vec<D>(-node.surface_normal[master]);
     } else if (n == 2) {
       const int j = 1 - k;
       const bool own = rigid < 0 ? node.rank[k] > node.rank[j] : false;

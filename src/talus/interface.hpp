@@ -17,7 +17,8 @@ void mark_interface_particles(const Case& c, Particles<D>& P);
 // Tensile strength of an interface particle with current cohesion c (degrades with it).
 inline double tensile_strength(const InterfaceSpec& f, double c) {
   if (f.tensile_strength < 0.0) return c;
-  return f.cohesion.initial > 0.0 ? f.tensile_strength * c / f.cohesion.initial : f.tensile_strength;
+  return f.cohesion.initial > 0.0 ? f.tensile_strength * c / f.cohesion.initial
+                                  : f.tensile_strength;
 }
 
 } // namespace talus

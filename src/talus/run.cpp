@@ -74,7 +74,8 @@ public:
     const Case& c = sim.case_();
     for (const ProbeSpec& pr : c.probes) {
       Vec<D> near;
-      for (int d = 0; d < D; ++d) near[d] = pr.near[d];
+      for (int d = 0; d < D; ++d)
+        near[d] = pr.near[d];
       probe_ids_.push_back(sim.particles().id[sim.nearest_particle(pr.body, near)]);
     }
     probe_peak_.assign(probe_ids_.size(), 0.0);
@@ -87,7 +88,8 @@ public:
       probe_peak_[k] = std::max(probe_peak_[k], P.v[sim.index_of(probe_ids_[k])].norm());
     if (body_ < 0) return;
     double m = 0.0, ms = 0.0;
-    for (std::size_t p = P.body_begin[body_]; p < P.body_begin[body_ + 1]; ++p) m += P.m[p], ms += P.m[p] * P.v[p].norm();
+    for (std::size_t p = P.body_begin[body_]; p < P.body_begin[body_ + 1]; ++p)
+      m += P.m[p], ms += P.m[p] * P.v[p].norm();
     const double speed = ms / m;
     if (speed > peak_) peak_ = speed, peak_time_ = sim.time();
     if (speed >= sim.case_().results.stop_speed) last_moving_ = sim.time();
@@ -126,7 +128,8 @@ private:
     const auto& P = sim.particles();
     double m = 0.0;
     Vec<D> mx = Vec<D>::Zero();
-    for (std::size_t p = P.body_begin[body_]; p < P.body_begin[body_ + 1]; ++p) m += P.m[p], mx += P.m[p] * P.x[p];
+    for (std::size_t p = P.body_begin[body_]; p < P.body_begin[body_ + 1]; ++p)
+      m += P.m[p], mx += P.m[p] * P.x[p];
     return mx / m;
   }
   int body_;
@@ -151,8 +154,10 @@ double settle(Simulation<D>& sim, std::ostream* log) {
   progress.update(sim.time(), sim.steps(), true);
   double ke = 0.0;
   const auto& P = sim.particles();
-  for (std::size_t p = 0; p < P.size(); ++p) ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
-  if (log) *log << fmt::format("talus: settled for {} s, kinetic energy {:.4g} J; released\n", T, ke);
+  for (std::size_t p = 0; p < P.size(); ++p)
+    ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
+  if (log)
+    *log << fmt::format("talus: settled for {} s, kinetic energy {:.4g} J; released\n", T, ke);
   sim.release();
   return ke;
 }
@@ -211,7 +216,8 @@ RunResult run_dim(const Case& c, const RunOptions& opt) {
   r.particle_updates_per_second =
       stepping > 0 ? static_cast<double>(r.particles) * static_cast<double>(r.steps) / stepping
                    : 0.0;
-  writer.write_summary(sim, r.status, r.wall_seconds, stepping, threads, r.message, monitor.json(sim, settle_ke));
+  writer.write_summary(sim, r.status, r.wall_seconds, stepping, threads, r.message,
+                       monitor.json(sim, settle_ke));
   return r;
 }
 

@@ -278,7 +278,8 @@ void Simulation<D>::map_momentum_to_nodes() {
 // local damping and the velocity conditions applied to both.
 template <int D>
 void Simulation<D>::compute_node_velocities(double dt) {
-  const double alpha = settling_ ? case_data_.initial_state.settle_damping : case_data_.simulation.damping;
+  const double alpha =
+      settling_ ? case_data_.initial_state.settle_damping : case_data_.simulation.damping;
   for (int b = 0; b < num_bodies(); ++b) {
     BodyField<D>& N = fields_[b];
     const std::int64_t n = static_cast<std::int64_t>(N.size());
@@ -365,11 +366,12 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         node.x[k] = N.mx[i] / N.m[i];
         node.rigid[k] = case_data_.bodies[b].rigid;
         node.rank[k] = body_mass_[b] + 1e-9 * b; // ties broken by body order
-        node.rigid_normal[k].setZero();
-        if (node.rigid[k]) {
-          // The exact normal of the rigid body's geometry, moved with the body.
-          const Vec<D> x_I = grid_.node_position(g) - rigid_velocity_[b] * time_;
-          node.rigid_normal[k] = surface_normal<D>(case_data_.bodies[b].geometry[0], x_I);
+        node.surface_normal[k].setZero();
+        if (case_data_.bodies[b].geometric_normal) {
+          // The exact normal of the body's geometry (moved with a rigid body's velocity).
+          const Vec<D> x_I = grid_.node_position(g) -
+                             (node.rigid[k] ? Vec<D>(rigid_velocity_[b] * time_) : Vec<D>::Zero());
+          node.surface_normal[k] = surface_normal<D>(case_data_.bodies[b].geometry[0], x_I);
         }
       }
       if (node.n >= 2) {
@@ -487,7 +489,8 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
       if (what.strain_rate) L += (N.*what.strain_rate)[I] * dN_I.transpose();
     });
     if (what.velocity) P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
-    if (what.velocity && P.iface[p] >= 0 && !settling_) { // slip back to the interface particle; degrade
+    if (what.velocity && P.iface[p] >= 0 &&
+        !settling_) { // slip back to the interface particle; degrade
       double rate = 0.0;
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
         rate += N_I * N.slip_rate[I];

@@ -13,7 +13,7 @@ ContactNode<2> two_bodies(double mu) {
   for (int k = 0; k < 2; ++k) {
     node.body[k] = k;
     node.rigid[k] = false;
-    node.rigid_normal[k].setZero();
+    node.surface_normal[k].setZero();
     node.mu[k] = mu;
     node.x[k].setZero();
   }
@@ -77,7 +77,7 @@ TEST(Contact, RigidBodyHasInfiniteMass) {
   ContactNode<2> node = two_bodies(0.0);
   node.rigid[1] = true;
   node.v[1] = Vec<2>(0.0, 0.0);
-  node.rigid_normal[1] = Vec<2>(0.0, 1.0);
+  node.surface_normal[1] = Vec<2>(0.0, 1.0);
   resolve_contact(node, ContactLaw{-1.0, 1.0});
   EXPECT_EQ(node.v[1], Vec<2>(0.0, 0.0));
   EXPECT_DOUBLE_EQ(node.v[0][1], 0.0); // all normal approach removed
@@ -99,7 +99,7 @@ TEST(Contact, ThreeBodiesAtOneNodeConserveMomentum) {
     node.v[k] = -dirs[k] * (1.0 + k);      // each moves towards the node
     node.x[k].setZero();
     node.rigid[k] = false;
-    node.rigid_normal[k].setZero();
+    node.surface_normal[k].setZero();
     node.mu[k] = 0.3;
   }
   Vec<2> p0 = Vec<2>::Zero();

@@ -60,6 +60,7 @@ struct BodySpec {
   int particles_per_cell = 2;     // per direction
   Vec3a velocity{0.0, 0.0, 0.0};  // initial velocity (a rigid body keeps it)
   bool rigid = false;             // prescribed velocity, infinite mass in contact
+  bool geometric_normal = false;  // contact normal from the geometry (default: if rigid)
   double lattice_angle = 0.0;     // 2D: rotation (radians) of the particle lattice about the
                                   // first polygon vertex, so an inclined edge is seeded straight
 };
@@ -133,8 +134,8 @@ struct InitialState {
 // Run-out duration: from release until the body's mass-averaged speed falls below stop_speed
 // for the last time.
 struct ResultsSpec {
-  int body = -1;            // -1: no results
-  double stop_speed = 0.5;  // m/s
+  int body = -1;           // -1: no results
+  double stop_speed = 0.5; // m/s
 };
 
 struct Case {

@@ -584,6 +584,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
             "must be 1 to 8 (per direction)");
     b.velocity = r.vector("velocity", dim, Vec3a{0.0, 0.0, 0.0});
     b.rigid = r.boolean("rigid", false);
+    b.geometric_normal = r.boolean("geometric_normal", b.rigid);
     if (r.has("lattice_angle")) {
       if (dim != 2) r.fail("lattice_angle", "a rotated particle lattice is 2D only");
       const double a = r.number("lattice_angle");
