@@ -1,4 +1,5 @@
 // talus: run | check | --version. A thin shell over the library; every error is one clear line.
+#include "bench.hpp"
 #include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
 #include "talus/output/files.hpp"
@@ -78,7 +79,23 @@ int main(int argc, char** argv) {
   chk->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
   chk->add_option("--set", overrides, "override a key (repeatable)");
 
+  talus::BenchOptions bench_opt;
+  auto* bench =
+      app.add_subcommand("bench", "throughput of fixed problems (particle-updates per second)");
+  bench->add_option("--threads", bench_opt.threads, "thread counts to run (default: 1 2)");
+  bench->add_option("--problems", bench_opt.problems, "column, column_4x, vaiont (default: all)");
+  bench->add_option("--json", bench_opt.json_out, "also write the figures as JSON here");
+  bench->add_option("--source", bench_opt.source_dir, "the Talus source folder (default: .)");
+
   CLI11_PARSE(app, argc, argv);
+  if (bench->parsed()) {
+    try {
+      return talus::run_bench(bench_opt);
+    } catch (const talus::CaseError& e) {
+      fmt::print(stderr, "error: {}\n", e.what());
+      return 2;
+    }
+  }
 
   talus::Case c;
   try {

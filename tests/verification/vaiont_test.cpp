@@ -27,9 +27,9 @@ TEST(Vaiont, ThreeBodiesMoveAndStop) {
   const double slide_mass = 160170.0 * 2400.0; // kg per m
   // At rest at release: kinetic energy below that of the slide moving at 0.2 m/s.
   EXPECT_LT(res["kinetic_energy_at_release_J"].get<double>(), 0.5 * slide_mass * 0.2 * 0.2);
-  EXPECT_GT(res["peak_mean_speed_m_s"].get<double>(), 5.0);        // it fails and runs
+  EXPECT_GT(res["peak_mean_speed_m_s"].get<double>(), 5.0);         // it fails and runs
   EXPECT_GT(res["centroid_displacement_x_m"].get<double>(), 100.0); // towards the north slope
-  EXPECT_FALSE(res["still_moving_at_end"].get<bool>());              // and stops
+  EXPECT_FALSE(res["still_moving_at_end"].get<bool>());             // and stops
   EXPECT_LT(res["runout_duration_s"].get<double>(), 45.0);
 }
 

@@ -7,6 +7,9 @@
 #include "talus/materials/plasticity.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <utility>
 
 namespace talus {
 
@@ -57,6 +60,28 @@ inline bool return_to_planes(double K, double G, const Plane* planes, int n, V3&
   return true;
 }
 
+// Principal stresses s1 >= s2 >= s3 and their directions (columns of R). Plane strain (no
+// out-of-plane shear) takes the closed form of the in-plane 2x2 block; otherwise Eigen's.
+inline void principal(const Voigt& sigma, V3& values, Mat3& R) {
+  if (sigma[4] == 0.0 && sigma[5] == 0.0) {
+    const double c = 0.5 * (sigma[0] + sigma[1]), d = 0.5 * (sigma[0] - sigma[1]);
+    const double r = std::sqrt(d * d + sigma[3] * sigma[3]);
+    const double theta = 0.5 * std::atan2(sigma[3], d);
+    const double ct = std::cos(theta), st = std::sin(theta);
+    std::array<std::pair<double, V3>, 3> e = {std::pair{c + r, V3(ct, st, 0.0)},
+                                              std::pair{c - r, V3(-st, ct, 0.0)},
+                                              std::pair{sigma[2], V3(0.0, 0.0, 1.0)}};
+    std::sort(e.begin(), e.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (int i = 0; i < 3; ++i)
+      values[i] = e[i].first, R.col(i) = e[i].second;
+    return;
+  }
+  Eigen::SelfAdjointEigenSolver<Mat3> eig;
+  eig.computeDirect(to_tensor(sigma));
+  values = eig.eigenvalues().reverse();
+  R = eig.eigenvectors().rowwise().reverse();
+}
+
 } // namespace mc_detail
 
 // Returns the trial stress to the Mohr-Coulomb surface with tension cut-off; returns the
@@ -69,10 +94,9 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
   const double sp = std::sin(phi), cp = std::cos(phi), sd = std::sin(mat.strength.dilation_angle);
   const double K = mat.bulk_modulus(), G = mat.shear_modulus();
 
-  Eigen::SelfAdjointEigenSolver<Mat3> eig;
-  eig.computeDirect(to_tensor(sigma));
-  // Eigen sorts ascending; we want s1 >= s2 >= s3.
-  const V3 trial(eig.eigenvalues()[2], eig.eigenvalues()[1], eig.eigenvalues()[0]);
+  V3 trial;
+  Mat3 R;
+  mc_detail::principal(sigma, trial, R);
   const double t =
       std::min(mat.strength.tension_cutoff, sp > 0.0 ? c * cp / sp : mat.strength.tension_cutoff);
 
@@ -105,7 +129,6 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
     const double apex = std::min(t, sp > 0.0 ? c * cp / sp : t);
     s = V3::Constant(apex);
   }
-  const Mat3 R = eig.eigenvectors().rowwise().reverse();
   const Mat3 out = R * s.asDiagonal() * R.transpose();
   const Voigt trial_voigt = sigma;
   sigma = to_voigt(out);
