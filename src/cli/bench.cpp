@@ -32,17 +32,19 @@ int run_bench(const BenchOptions& opt) {
   const std::vector<Problem> all = {
       {"column", "bench/column.toml", {}, 300},
       {"column_4x", "bench/column.toml", {"grid.cell_size=0.001"}, 300},
-      {"vaiont", "cases/vaiont/three_bodies.toml",
+      {"vaiont",
+       "cases/vaiont/three_bodies.toml",
        {"grid.cell_size=4", "initial_state.settle_time=0", "interface.0.friction.slip=0.02",
         "interface.0.cohesion.slip=0.02"},
        200},
   };
   nlohmann::json out = nlohmann::json::array();
-  fmt::print("{:<10} {:>8} {:>9} {:>6} {:>9} {:>12} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>9}\n", "problem",
-             "threads", "particles", "steps", "wall s", "updates/s", "p2g", "grid", "contact", "g2p",
-             "stress", "other", "B/part.");
+  fmt::print("{:<10} {:>8} {:>9} {:>6} {:>9} {:>12} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>9}\n",
+             "problem", "threads", "particles", "steps", "wall s", "updates/s", "p2g", "grid",
+             "contact", "g2p", "stress", "other", "B/part.");
   for (const Problem& pb : all) {
-    if (std::find(opt.problems.begin(), opt.problems.end(), pb.name) == opt.problems.end()) continue;
+    if (std::find(opt.problems.begin(), opt.problems.end(), pb.name) == opt.problems.end())
+      continue;
     const Case c = parse_case_file(opt.source_dir + "/" + pb.file, pb.overrides);
     for (const int threads : opt.threads) {
       set_threads(threads);
@@ -50,22 +52,33 @@ int run_bench(const BenchOptions& opt) {
       sim.step(); // warm-up: first sort and field allocation
       const PhaseTimes before = sim.phase_times();
       const auto t0 = std::chrono::steady_clock::now();
-      for (int s = 0; s < pb.steps; ++s) sim.step();
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      for (int s = 0; s < pb.steps; ++s)
+        sim.step();
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       PhaseTimes T = sim.phase_times();
       T.p2g -= before.p2g, T.grid -= before.grid, T.contact -= before.contact, T.g2p -= before.g2p;
       T.stress -= before.stress, T.other -= before.other;
       const double n = static_cast<double>(sim.particles().size());
       const double rate = n * pb.steps / wall;
       const double bytes = peak_rss_bytes() / n;
-      fmt::print("{:<10} {:>8} {:>9} {:>6} {:>9.2f} {:>12.3e} {:>7.2f} {:>7.2f} {:>7.2f} {:>7.2f} {:>7.2f} {:>7.2f} {:>9.0f}\n",
+      fmt::print("{:<10} {:>8} {:>9} {:>6} {:>9.2f} {:>12.3e} {:>7.2f} {:>7.2f} {:>7.2f} {:>7.2f} "
+                 "{:>7.2f} {:>7.2f} {:>9.0f}\n",
                  pb.name, threads, sim.particles().size(), pb.steps, wall, rate, T.p2g, T.grid,
                  T.contact, T.g2p, T.stress, T.other, bytes);
-      out.push_back({{"problem", pb.name}, {"threads", threads}, {"particles", sim.particles().size()},
-                     {"steps", pb.steps}, {"wall_seconds", wall}, {"particle_updates_per_second", rate},
+      out.push_back({{"problem", pb.name},
+                     {"threads", threads},
+                     {"particles", sim.particles().size()},
+                     {"steps", pb.steps},
+                     {"wall_seconds", wall},
+                     {"particle_updates_per_second", rate},
                      {"phase_seconds",
-                      {{"p2g", T.p2g}, {"grid", T.grid}, {"contact", T.contact}, {"g2p", T.g2p},
-                       {"stress", T.stress}, {"other", T.other}}},
+                      {{"p2g", T.p2g},
+                       {"grid", T.grid},
+                       {"contact", T.contact},
+                       {"g2p", T.g2p},
+                       {"stress", T.stress},
+                       {"other", T.other}}},
                      {"peak_rss_bytes_per_particle", bytes}});
     }
   }

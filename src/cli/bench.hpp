@@ -8,10 +8,10 @@
 namespace talus {
 
 struct BenchOptions {
-  std::string source_dir = ".";   // where bench/ and cases/ are
+  std::string source_dir = "."; // where bench/ and cases/ are
   std::vector<int> threads{1, 2};
   std::vector<std::string> problems{"column", "column_4x", "vaiont"};
-  std::string json_out;           // write the figures here too (optional)
+  std::string json_out; // write the figures here too (optional)
 };
 
 int run_bench(const BenchOptions& opt);
