@@ -70,14 +70,8 @@ private:
 template <int D>
 class ResultsMonitor {
 public:
-  explicit ResultsMonitor(const Simulation<D>& sim) : body_(sim.case_().results.body) {
-    const Case& c = sim.case_();
-    for (const ProbeSpec& pr : c.probes) {
-      Vec<D> near;
-      for (int d = 0; d < D; ++d)
-        near[d] = pr.near[d];
-      probe_ids_.push_back(sim.particles().id[sim.nearest_particle(pr.body, near)]);
-    }
+  explicit ResultsMonitor(const Simulation<D>& sim)
+      : body_(sim.case_().results.body), probe_ids_(sim.probe_ids()) {
     probe_peak_.assign(probe_ids_.size(), 0.0);
     if (body_ >= 0) centroid0_ = centroid(sim);
   }

@@ -578,6 +578,18 @@ void Simulation<D>::release() {
 }
 
 template <int D>
+std::vector<std::uint32_t> Simulation<D>::probe_ids() const {
+  std::vector<std::uint32_t> ids;
+  for (const ProbeSpec& pr : case_data_.probes) {
+    Vec<D> near;
+    for (int d = 0; d < D; ++d)
+      near[d] = pr.near[d];
+    ids.push_back(particles_.id[nearest_particle(pr.body, near)]);
+  }
+  return ids;
+}
+
+template <int D>
 std::size_t Simulation<D>::nearest_particle(int body, const Vec<D>& point) const {
   const auto& P = particles_;
   std::size_t best = P.body_begin[body];

@@ -65,6 +65,8 @@ public:
   double compute_time_step() const;
   // Current index of the particle with stable id `id`.
   std::size_t index_of(std::uint32_t id) const { return index_of_id_[id]; }
+  // Stable ids of the case's probes: the particle of the probe's body nearest its point now.
+  std::vector<std::uint32_t> probe_ids() const;
   // Index of the particle nearest `point` in body b (for probes).
   std::size_t nearest_particle(int body, const Vec<D>& point) const;
 

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 namespace talus {
 
@@ -371,6 +373,24 @@ int lookup(TableReader& r, const std::string& key, const std::vector<std::string
   return static_cast<int>(it - names.begin());
 }
 
+// `bodies = ["a", "b"]`: two different bodies, as indices.
+std::pair<int, int> read_body_pair(TableReader& r, const std::vector<std::string>& body_names) {
+  const toml::array* a = r.array("bodies");
+  if (!a) r.fail_missing("bodies");
+  if (a->size() != 2 || !a->get(0)->is_string() || !a->get(1)->is_string())
+    r.fail("bodies", "expected two body names, e.g. bodies = [\"slide\", \"bedrock\"]");
+  int ids[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string name = a->get(k)->value<std::string>().value();
+    const auto it = std::find(body_names.begin(), body_names.end(), name);
+    if (it == body_names.end())
+      r.fail("bodies", fmt::format("no body is named '{}'{}", name, suggest(name, body_names)));
+    ids[k] = static_cast<int>(it - body_names.begin());
+  }
+  if (ids[0] == ids[1]) r.fail("bodies", "a pair needs two different bodies");
+  return {ids[0], ids[1]};
+}
+
 Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& base_dir) {
   const std::vector<std::string> kinds = {"box", "polygon", "disk", "sphere"};
   std::vector<std::string> present;
@@ -641,39 +661,14 @@ Case parse_case_text(const std::string& text, const std::string& path,
       c.contact.gap_cutoff = r.number("gap_cutoff", 0.8);
       return;
     }
-    const toml::array* a = r.array("bodies");
-    if (a->size() != 2 || !a->get(0)->is_string() || !a->get(1)->is_string())
-      r.fail("bodies", "expected two body names, e.g. bodies = [\"block\", \"plane\"]");
-    ContactPair pair;
-    int ids[2];
-    for (int k = 0; k < 2; ++k) {
-      const std::string name = a->get(k)->value<std::string>().value();
-      const auto it = std::find(body_names.begin(), body_names.end(), name);
-      if (it == body_names.end())
-        r.fail("bodies", fmt::format("no body is named '{}'{}", name, suggest(name, body_names)));
-      ids[k] = static_cast<int>(it - body_names.begin());
-    }
-    if (ids[0] == ids[1]) r.fail("bodies", "a body cannot be in contact with itself");
-    pair.a = ids[0], pair.b = ids[1], pair.friction = mu;
-    c.contact.pairs.push_back(pair);
+    const auto [first, second] = read_body_pair(r, body_names);
+    c.contact.pairs.push_back(ContactPair{first, second, mu});
   });
 
   // [[interface]]: cohesive-frictional pairs.
   for_each_entry(root, "interface", [&](TableReader& r, std::size_t) {
     InterfaceSpec f;
-    const toml::array* a = r.array("bodies");
-    if (!a || a->size() != 2 || !a->get(0)->is_string() || !a->get(1)->is_string())
-      r.fail("bodies", "expected two body names, e.g. bodies = [\"slide\", \"bedrock\"]");
-    int ids[2];
-    for (int k = 0; k < 2; ++k) {
-      const std::string name = a->get(k)->value<std::string>().value();
-      const auto it = std::find(body_names.begin(), body_names.end(), name);
-      if (it == body_names.end())
-        r.fail("bodies", fmt::format("no body is named '{}'{}", name, suggest(name, body_names)));
-      ids[k] = static_cast<int>(it - body_names.begin());
-    }
-    if (ids[0] == ids[1]) r.fail("bodies", "an interface needs two different bodies");
-    f.a = ids[0], f.b = ids[1];
+    std::tie(f.a, f.b) = read_body_pair(r, body_names);
     auto degradation = [&](const std::string& key, const std::string& unit) {
       const toml::table* t = r.table(key);
       if (!t) r.fail_missing(key);

@@ -10,16 +10,9 @@ namespace talus {
 
 enum class DruckerPragerMatch { inner, outer, plane_strain };
 
-struct DruckerPrager {
-  double density = 0.0;
-  double youngs_modulus = 0.0;
-  double poisson_ratio = 0.0;
+struct DruckerPrager : IsotropicElastic {
   DruckerPragerMatch match = DruckerPragerMatch::inner;
   MohrCoulombStrength strength;
-
-  double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
-  double bulk_modulus() const { return youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio)); }
-  double p_wave_modulus() const { return bulk_modulus() + 4.0 / 3.0 * shear_modulus(); }
 
   // alpha and k of eq. 44 for friction angle phi and cohesion c.
   void match_coefficients(double phi, double c, double& alpha, double& k) const {
@@ -83,9 +76,7 @@ inline double return_to_drucker_prager(const DruckerPrager& mat, Voigt& sigma, d
 
 inline void update_stress(const DruckerPrager& mat, Voigt& sigma, double& eps_p, const Mat3& D,
                           const Mat3& W, double dt) {
-  sigma += jaumann_spin_term(sigma, W) * dt +
-           elastic_increment(mat.bulk_modulus(), mat.shear_modulus(), to_voigt(D * dt));
-  eps_p += return_to_drucker_prager(mat, sigma, eps_p);
+  update_plastic_stress(mat, sigma, eps_p, D, W, dt, return_to_drucker_prager);
 }
 
 } // namespace talus

@@ -7,7 +7,8 @@
 
 namespace talus {
 
-struct LinearElastic {
+// Density and isotropic elasticity: every material model starts from these.
+struct IsotropicElastic {
   double density = 0.0;
   double youngs_modulus = 0.0;
   double poisson_ratio = 0.0;
@@ -17,6 +18,8 @@ struct LinearElastic {
   // P-wave modulus K + 4G/3, which sets the CFL time step.
   double p_wave_modulus() const { return bulk_modulus() + 4.0 / 3.0 * shear_modulus(); }
 };
+
+struct LinearElastic : IsotropicElastic {};
 
 // Elastic trial increment C : D dt for an isotropic material (deps in Voigt order, engineering
 // shear not used: deps[3..5] are tensor components).

@@ -13,15 +13,8 @@
 
 namespace talus {
 
-struct MohrCoulomb {
-  double density = 0.0;
-  double youngs_modulus = 0.0;
-  double poisson_ratio = 0.0;
+struct MohrCoulomb : IsotropicElastic {
   MohrCoulombStrength strength;
-
-  double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
-  double bulk_modulus() const { return youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio)); }
-  double p_wave_modulus() const { return bulk_modulus() + 4.0 / 3.0 * shear_modulus(); }
 };
 
 namespace mc_detail {
@@ -137,9 +130,7 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
 
 inline void update_stress(const MohrCoulomb& mat, Voigt& sigma, double& eps_p, const Mat3& D,
                           const Mat3& W, double dt) {
-  sigma += jaumann_spin_term(sigma, W) * dt +
-           elastic_increment(mat.bulk_modulus(), mat.shear_modulus(), to_voigt(D * dt));
-  eps_p += return_to_mohr_coulomb(mat, sigma, eps_p);
+  update_plastic_stress(mat, sigma, eps_p, D, W, dt, return_to_mohr_coulomb);
 }
 
 } // namespace talus

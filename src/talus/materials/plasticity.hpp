@@ -51,4 +51,14 @@ inline double plastic_strain_increment(double K, double G, const Voigt& sigma_tr
   return std::sqrt(2.0 / 3.0 * sq);
 }
 
+// Elastoplastic stress update shared by the Mohr-Coulomb family: Jaumann rotation and elastic
+// trial (eq. 27-28), then the model's return mapping, which reports the plastic strain increment.
+template <class Model, class Return>
+void update_plastic_stress(const Model& mat, Voigt& sigma, double& eps_p, const Mat3& D,
+                           const Mat3& W, double dt, Return&& return_to_surface) {
+  sigma += jaumann_spin_term(sigma, W) * dt +
+           elastic_increment(mat.bulk_modulus(), mat.shear_modulus(), to_voigt(D * dt));
+  eps_p += return_to_surface(mat, sigma, eps_p);
+}
+
 } // namespace talus

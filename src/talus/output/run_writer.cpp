@@ -36,13 +36,7 @@ RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::m
   if (ec)
     throw OutputError(fmt::format("{}: cannot create the run folder: {}", dir_, ec.message()));
   write_file_atomic(dir_ + "/case.toml", sim.case_().text);
-  const Case& c = sim.case_();
-  for (const ProbeSpec& pr : c.probes) {
-    Vec<D> near;
-    for (int d = 0; d < D; ++d)
-      near[d] = pr.near[d];
-    probe_ids_.push_back(sim.particles().id[sim.nearest_particle(pr.body, near)]);
-  }
+  probe_ids_ = sim.probe_ids();
   energy_ = "time,step,dt,kinetic_energy" + components<D>("momentum_") + "\n";
   bodies_ = "time,body,mass" + components<D>("centroid_") + components<D>("velocity_") +
             ",mean_speed,max_speed,kinetic_energy\n";
