@@ -76,7 +76,7 @@ def field_values(mesh, field):
     return values.ravel() if values.ndim == 1 or values.shape[1] == 1 else np.linalg.norm(values, axis=1)
 
 
-def plot_snapshots(run, out, field, count):
+def plot_snapshots(run, out, field, count, log=False):
     pvd = os.path.join(run, "particles.pvd")
     if not os.path.exists(pvd):
         return
@@ -85,16 +85,21 @@ def plot_snapshots(run, out, field, count):
     frames = ET.parse(pvd).getroot().findall(".//DataSet")
     if not frames:
         return
-    picks = sorted(set(np.linspace(0, len(frames) - 1, min(count, len(frames))).round().astype(int)))
+    if count == 1:  # one snapshot: the final state
+        picks = [len(frames) - 1]
+    else:
+        picks = sorted(set(np.linspace(0, len(frames) - 1, min(count, len(frames))).round().astype(int)))
     for i in picks:
         f = frames[i]
         mesh = meshio.read(os.path.join(run, f.get("file")))
         fig, ax = plt.subplots(figsize=(8, 5))
         values = field_values(mesh, field)
+        if log:
+            values = np.log10(np.maximum(values, 1e-6))
         size = max(0.2, 2e4 / len(values))
         sc = ax.scatter(mesh.points[:, 0], mesh.points[:, 1], c=values, s=size, lw=0,
                         cmap="tab10" if field == "body" else "viridis")
-        fig.colorbar(sc, ax=ax, label=field)
+        fig.colorbar(sc, ax=ax, label=f"log10 {field}" if log else field)
         ax.set_aspect("equal")
         ax.set_title(f"t = {float(f.get('timestep')):.3g} s")
         save(fig, os.path.join(out, f"snapshot_{field}_{i:04d}.png"))
@@ -104,12 +109,13 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run")
     ap.add_argument("--field", default="body", help="body, speed, stress_yy, plastic_strain, ...")
-    ap.add_argument("--frames", type=int, default=4, help="number of snapshots")
+    ap.add_argument("--frames", type=int, default=4, help="number of snapshots (1: the final state)")
+    ap.add_argument("--log", action="store_true", help="colour by log10 of the field")
     args = ap.parse_args()
     out = os.path.join(args.run, "plots")
     os.makedirs(out, exist_ok=True)
     plot_time_series(args.run, out)
-    plot_snapshots(args.run, out, args.field, args.frames)
+    plot_snapshots(args.run, out, args.field, args.frames, args.log)
 
 
 if __name__ == "__main__":
