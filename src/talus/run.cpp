@@ -40,7 +40,9 @@ public:
     const bool due =
         tty_ ? wall - last_wall_ >= 0.2 : (frac >= next_frac_ || wall - last_wall_ >= 30.0);
     if (!due && !final) return;
+    if (final && !tty_ && steps == last_steps_) return; // this state is already on its own line
     last_wall_ = wall;
+    last_steps_ = steps;
     while (next_frac_ <= frac)
       next_frac_ += 0.1;
     const double eta = frac > 0 ? wall * (1.0 - frac) / frac : 0.0;
@@ -64,6 +66,7 @@ private:
   Clock::time_point start_;
   double last_wall_ = -1e9;
   double next_frac_ = 0.0;
+  std::int64_t last_steps_ = -1;
 };
 
 // The headline figures of a run (ResultsSpec), tracked every step.
