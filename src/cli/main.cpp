@@ -2,6 +2,7 @@
 #include "bench.hpp"
 #include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
+#include "talus/output/checkpoint.hpp"
 #include "talus/output/files.hpp"
 #include "talus/run.hpp"
 #include "talus/version.hpp"
@@ -10,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
+#include <cstdlib>
 #include <fmt/format.h>
 #include <iostream>
 
@@ -56,6 +59,45 @@ int check(const talus::Case& c) {
   return 0;
 }
 
+// TALUS_INJECT_SIGNAL=SIGNAL:STEP raises SIGNAL right after STEP (the restart tests' faults).
+void inject_faults(talus::RunOptions& opt) {
+  const char* spec = std::getenv("TALUS_INJECT_SIGNAL");
+  if (!spec) return;
+  int sig = 0;
+  long long step = -1;
+  if (std::sscanf(spec, "%d:%lld", &sig, &step) == 2)
+    opt.inject_signal = sig, opt.inject_signal_step = step;
+}
+
+// Runs, prints the outcome, and maps it to the exit status: 0 completed, 1 failed (physics),
+// 2 bad input or no checkpoint, 3 output error, 128 + signal when interrupted.
+template <class F>
+int run_and_report(F&& go) {
+  try {
+    const talus::RunResult r = go();
+    if (r.status == "interrupted") {
+      fmt::print(stderr, "talus: {}\n", r.message);
+      return 128 + r.signal;
+    }
+    if (r.status != "completed") {
+      fmt::print(stderr, "error: run {}: {}\n", r.status, r.message);
+      return 1;
+    }
+    fmt::print("done: {} steps, {:.4g} s simulated, {:.1f} s wall, {:.3g} particle-updates/s\n",
+               r.steps, r.simulated_time, r.wall_seconds, r.particle_updates_per_second);
+  } catch (const talus::OutputError& e) {
+    fmt::print(stderr, "error: output: {}\n", e.what());
+    return 3;
+  } catch (const talus::CaseError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 2;
+  } catch (const talus::CheckpointError& e) {
+    fmt::print(stderr, "error: restart: {}\n", e.what());
+    return 2;
+  }
+  return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -69,9 +111,14 @@ int main(int argc, char** argv) {
   int threads = 0;
   long long max_steps = -1;
   auto* run = app.add_subcommand("run", "run a case into a run folder");
-  run->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
+  std::string restart_dir;
+  auto* case_opt = run->add_option("case", case_file, "case file (TOML)")->check(CLI::ExistingFile);
+  auto* restart_opt = run->add_option("--restart", restart_dir,
+                                      "continue the run in this folder from its newest checkpoint");
+  restart_opt->excludes(case_opt);
   run->add_option("--out,-o", out_dir, "run folder (default: runs/<case name>)");
-  run->add_option("--set", overrides, "override a key: --set grid.cell_size=4 (repeatable)");
+  run->add_option("--set", overrides, "override a key: --set grid.cell_size=4 (repeatable)")
+      ->excludes(restart_opt);
   run->add_option("--threads,-t", threads, "OpenMP threads (default: all cores)")
       ->check(CLI::PositiveNumber);
   run->add_option("--max-steps", max_steps, "stop after this many steps");
@@ -96,6 +143,20 @@ int main(int argc, char** argv) {
       fmt::print(stderr, "error: {}\n", e.what());
       return 2;
     }
+  }
+
+  if (run->parsed() && !restart_dir.empty()) {
+    talus::RunOptions opt;
+    opt.out_dir = restart_dir;
+    opt.threads = threads;
+    if (max_steps >= 0) opt.max_steps = max_steps;
+    opt.log = &std::cout;
+    inject_faults(opt);
+    return run_and_report([&] { return talus::restart_run(opt); });
+  }
+  if (case_file.empty()) {
+    fmt::print(stderr, "error: run: give a case file, or --restart RUN_DIR\n");
+    return 2;
   }
 
   talus::Case c;
@@ -123,20 +184,6 @@ int main(int argc, char** argv) {
   opt.threads = threads;
   if (max_steps >= 0) opt.max_steps = max_steps;
   opt.log = &std::cout;
-  try {
-    const talus::RunResult r = talus::run_case(c, opt);
-    if (r.status != "completed") {
-      fmt::print(stderr, "error: run {}: {}\n", r.status, r.message);
-      return 1;
-    }
-    fmt::print("done: {} steps, {:.4g} s simulated, {:.1f} s wall, {:.3g} particle-updates/s\n",
-               r.steps, r.simulated_time, r.wall_seconds, r.particle_updates_per_second);
-  } catch (const talus::OutputError& e) {
-    fmt::print(stderr, "error: output: {}\n", e.what());
-    return 3;
-  } catch (const talus::CaseError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return 2;
-  }
-  return 0;
+  inject_faults(opt);
+  return run_and_report([&] { return talus::run_case(c, opt); });
 }

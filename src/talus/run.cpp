@@ -1,11 +1,16 @@
 #include "talus/run.hpp"
 
+#include "talus/case/parse.hpp"
+#include "talus/output/checkpoint.hpp"
 #include "talus/output/run_writer.hpp"
 #include "talus/solver.hpp"
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <filesystem>
 #include <fmt/format.h>
+#include <optional>
 #include <unistd.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -30,13 +35,15 @@ using Clock = std::chrono::steady_clock;
 // A progress bar on a terminal; a plain line every 10 % or 30 s otherwise.
 class Progress {
 public:
-  Progress(std::ostream* out, double end_time)
-      : out_(out), end_(end_time), tty_(out && ::isatty(STDOUT_FILENO)), start_(Clock::now()) {}
+  Progress(std::ostream* out, double end_time, std::int64_t first_step)
+      : out_(out), end_(end_time), tty_(out && ::isatty(STDOUT_FILENO)), start_(Clock::now()),
+        first_step_(first_step) {}
 
   void update(double t, std::int64_t steps, bool final = false) {
     if (!out_) return;
     const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
     const double frac = std::min(1.0, t / end_);
+    if (first_frac_ < 0) first_frac_ = frac; // a restarted run starts part-way
     const bool due =
         tty_ ? wall - last_wall_ >= 0.2 : (frac >= next_frac_ || wall - last_wall_ >= 30.0);
     if (!due && !final) return;
@@ -45,10 +52,11 @@ public:
     last_steps_ = steps;
     while (next_frac_ <= frac)
       next_frac_ += 0.1;
-    const double eta = frac > 0 ? wall * (1.0 - frac) / frac : 0.0;
+    const double rate = wall > 0 ? static_cast<double>(steps - first_step_) / wall : 0.0;
+    const double eta = frac > first_frac_ ? wall * (1.0 - frac) / (frac - first_frac_) : 0.0;
     const std::string text =
         fmt::format("t = {:.4g} / {:.4g} s  {:5.1f} %  {} steps  {:.0f} steps/s  ETA {:.0f} s", t,
-                    end_, 100.0 * frac, steps, wall > 0 ? steps / wall : 0.0, eta);
+                    end_, 100.0 * frac, steps, rate, eta);
     if (tty_) {
       const int width = 30;
       const int filled = static_cast<int>(frac * width);
@@ -66,6 +74,8 @@ private:
   Clock::time_point start_;
   double last_wall_ = -1e9;
   double next_frac_ = 0.0;
+  std::int64_t first_step_;
+  double first_frac_ = -1.0;
   std::int64_t last_steps_ = -1;
 };
 
@@ -120,6 +130,12 @@ public:
     return j;
   }
 
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.io(probe_ids_), ar.io(probe_peak_), ar.io(centroid0_), ar.io(peak_), ar.io(peak_time_);
+    ar.io(last_moving_), ar.io(last_speed_);
+  }
+
 private:
   Vec<D> centroid(const Simulation<D>& sim) const {
     const auto& P = sim.particles();
@@ -136,92 +152,264 @@ private:
   double peak_ = 0.0, peak_time_ = 0.0, last_moving_ = 0.0, last_speed_ = 0.0;
 };
 
-// The settling phase: damped, interfaces held, until settle_time; then release. Returns the
-// kinetic energy at release.
-template <int D>
-double settle(Simulation<D>& sim, std::ostream* log) {
-  const double T = sim.case_().initial_state.settle_time;
-  if (T <= 0.0) return 0.0;
-  sim.set_settling(true);
-  Progress progress(log, T);
-  while (T - sim.time() > 1e-12 * T) {
-    sim.step(T - sim.time());
-    progress.update(sim.time(), sim.steps());
-  }
-  progress.update(sim.time(), sim.steps(), true);
-  double ke = 0.0;
-  const auto& P = sim.particles();
-  for (std::size_t p = 0; p < P.size(); ++p)
-    ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
-  if (log)
-    *log << fmt::format("talus: settled for {} s, kinetic energy {:.4g} J; released\n", T, ke);
-  sim.release();
-  return ke;
+volatile std::sig_atomic_t stop_signal = 0;
+extern "C" void on_stop_signal(int sig) {
+  stop_signal = sig;
 }
 
-template <int D>
-RunResult run_dim(const Case& c, const RunOptions& opt) {
-  const auto wall0 = Clock::now();
-  const int threads = set_threads(opt.threads);
-  Simulation<D> sim(c);
-  RunResult r;
-  r.particles = sim.particles().size();
-  if (opt.log)
-    *opt.log << fmt::format("talus: {} particles, {} nodes, {} threads -> {}\n", r.particles,
-                            sim.grid().num_nodes(), threads, opt.out_dir);
-  double settle_ke = 0.0;
-  const auto settle0 = Clock::now();
-  try {
-    settle_ke = settle(sim, opt.log);
-  } catch (const SimulationError& e) {
-    r.status = "failed";
-    r.message = std::string("while settling: ") + e.what();
+// SIGINT and SIGTERM ask the run to stop after the current step (with a checkpoint); the handler
+// resets itself, so a second Ctrl-C kills at once.
+class StopSignals {
+public:
+  StopSignals() {
+    stop_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
   }
-  RunWriter<D> writer(opt.out_dir, sim);
-  writer.write_frame(sim);
-  ResultsMonitor<D> monitor(sim);
-  // The settling steps count as stepping: particle-updates per second covers every step.
-  double stepping = std::chrono::duration<double>(Clock::now() - settle0).count();
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
 
-  const double end = c.simulation.end_time;
-  const double every = c.output.every > 0 ? c.output.every : end;
-  std::int64_t frame = 1;
-  Progress progress(opt.log, end);
-  if (r.status.empty()) r.status = "completed";
-  try {
-    while (r.status == "completed" && end - sim.time() > 1e-12 * end) {
-      if (opt.max_steps && sim.steps() >= *opt.max_steps) break;
-      const double next_output = std::min(end, every * static_cast<double>(frame));
-      const auto t0 = Clock::now();
-      sim.step(next_output - sim.time());
-      stepping += std::chrono::duration<double>(Clock::now() - t0).count();
-      monitor.update(sim);
-      if (sim.time() >= next_output - 1e-12 * end) {
-        writer.write_frame(sim);
-        ++frame;
-      }
-      progress.update(sim.time(), sim.steps());
+private:
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+};
+
+// A run: the simulation, its settling phase, output at its interval, checkpoints, and what a
+// checkpoint must carry besides the simulation (the run folder's tables, the tracked results).
+template <int D>
+class Runner {
+public:
+  Runner(const Case& c, const RunOptions& opt) : c_(c), opt_(opt), sim_(c) {}
+
+  RunResult run(LoadArchive* restore, const std::string& restored_from) {
+    const auto wall0 = Clock::now();
+    const int threads = set_threads(opt_.threads);
+    StopSignals signals;
+    RunResult r;
+    r.particles = sim_.particles().size();
+    if (restore) {
+      serialize(*restore);
+      if (!restore->done()) throw CheckpointError(restored_from + ": trailing bytes");
+      if (writer_) writer_->write_tables(sim_);
+      last_checkpoint_ = restored_from;
+    } else if (c_.initial_state.settle_time > 0.0) {
+      sim_.set_settling(true);
     }
-  } catch (const SimulationError& e) {
-    r.status = "failed";
-    r.message = e.what();
+    if (opt_.log)
+      *opt_.log << fmt::format(
+          "talus: {} particles, {} nodes, {} threads -> {}{}\n", r.particles,
+          sim_.grid().num_nodes(), threads, opt_.out_dir,
+          restore ? fmt::format(" (restarted at step {}, {} {:.6g} s)", sim_.steps(),
+                                sim_.settling() ? "settling" : "time", sim_.time())
+                  : "");
+    r.status = "completed";
+    try {
+      loop(r);
+    } catch (const SimulationError& e) {
+      r.status = "failed";
+      r.message =
+          fmt::format("{}{}; last good checkpoint: {}", sim_.settling() ? "while settling: " : "",
+                      e.what(), last_checkpoint_.empty() ? "none" : last_checkpoint_);
+    } catch (const OutputError& e) {
+      // Leave a summary if the disk still takes one; the files already written are intact.
+      r.status = "failed";
+      r.message = std::string("output: ") + e.what();
+      try {
+        finish(r, wall0, threads);
+      } catch (const OutputError&) {
+      }
+      throw;
+    }
+    finish(r, wall0, threads);
+    return r;
   }
-  progress.update(sim.time(), sim.steps(), true);
-  r.steps = sim.steps();
-  r.simulated_time = sim.time();
-  r.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
-  r.particle_updates_per_second =
-      stepping > 0 ? static_cast<double>(r.particles) * static_cast<double>(r.steps) / stepping
-                   : 0.0;
-  writer.write_summary(sim, r.status, r.wall_seconds, stepping, threads, r.message,
-                       monitor.json(sim, settle_ke));
-  return r;
+
+  template <class Ar>
+  void serialize(Ar& ar) {
+    sim_.serialize(ar, opt_.out_dir);
+    ar.io(settle_ke_), ar.io(stepping_), ar.io(frame_);
+    bool started = writer_.has_value();
+    ar.io(started);
+    if (!started) return;
+    start_output();
+    writer_->serialize(ar);
+    monitor_->serialize(ar);
+  }
+
+private:
+  void start_output() {
+    if (!writer_) writer_.emplace(opt_.out_dir, sim_);
+    if (!monitor_) monitor_.emplace(sim_);
+  }
+
+  void timed_step(double dt_limit) {
+    const auto t0 = Clock::now();
+    sim_.step(dt_limit);
+    stepping_ += std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+
+  void loop(RunResult& r) {
+    const double T = c_.initial_state.settle_time, end = c_.simulation.end_time;
+    const double every = c_.output.every > 0 ? c_.output.every : end;
+    const CheckpointSettings& ck = c_.checkpoint;
+    std::optional<Progress> progress;
+    progress.emplace(opt_.log, sim_.settling() ? T : end, sim_.steps());
+    auto next_checkpoint = [&] {
+      return ck.every > 0 ? ck.every * (std::floor(sim_.time() / ck.every + 1e-9) + 1.0) : inf;
+    };
+    double checkpoint_time = next_checkpoint();
+    auto checkpoint_wall = Clock::now();
+    for (;;) {
+      if (sim_.settling()) {
+        if (T - sim_.time() <= 1e-12 * T) {
+          progress->update(sim_.time(), sim_.steps(), true);
+          settle_ke_ = kinetic_energy();
+          if (opt_.log)
+            *opt_.log << fmt::format("talus: settled for {} s, kinetic energy {:.4g} J; released\n",
+                                     T, settle_ke_);
+          sim_.release();
+          start_output();
+          writer_->write_frame(sim_);
+          progress.emplace(opt_.log, end, sim_.steps());
+          checkpoint_time = next_checkpoint();
+          continue;
+        }
+        timed_step(T - sim_.time());
+      } else {
+        if (!writer_) {
+          start_output();
+          writer_->write_frame(sim_);
+        }
+        if (end - sim_.time() <= 1e-12 * end) break;
+        if (opt_.max_steps && sim_.steps() >= *opt_.max_steps) break;
+        const double next_output = std::min(end, every * static_cast<double>(frame_));
+        timed_step(next_output - sim_.time());
+        monitor_->update(sim_);
+        if (sim_.time() >= next_output - 1e-12 * end) {
+          writer_->write_frame(sim_);
+          ++frame_;
+        }
+      }
+      progress->update(sim_.time(), sim_.steps());
+      if (sim_.steps() == opt_.inject_signal_step) std::raise(opt_.inject_signal);
+      if (stop_signal) {
+        save_checkpoint();
+        r.status = "interrupted";
+        r.signal = stop_signal;
+        r.message = fmt::format("stopped by signal {} at step {}, time {:.6g} s; checkpoint {}; "
+                                "continue with: talus run --restart {}",
+                                static_cast<int>(stop_signal), sim_.steps(), sim_.time(),
+                                last_checkpoint_, opt_.out_dir);
+        return;
+      }
+      const bool wall_due = ck.wall_minutes > 0 &&
+                            std::chrono::duration<double>(Clock::now() - checkpoint_wall).count() >=
+                                60.0 * ck.wall_minutes;
+      if (sim_.time() >= checkpoint_time - 1e-12 * checkpoint_time || wall_due) {
+        save_checkpoint();
+        checkpoint_time = next_checkpoint();
+        checkpoint_wall = Clock::now();
+      }
+    }
+    progress->update(sim_.time(), sim_.steps(), true);
+  }
+
+  double kinetic_energy() const {
+    double ke = 0.0;
+    const auto& P = sim_.particles();
+    for (std::size_t p = 0; p < P.size(); ++p)
+      ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
+    return ke;
+  }
+
+  void save_checkpoint() {
+    sim_.check_particles(); // a checkpoint is a good state, or none is written
+    SaveArchive ar;
+    int dim = D;
+    std::string file = c_.file, text = c_.text;
+    ar.io(dim), ar.io(file), ar.io(text);
+    serialize(ar);
+    std::error_code ec;
+    std::filesystem::create_directories(opt_.out_dir + "/checkpoints", ec);
+    if (ec)
+      throw OutputError(
+          fmt::format("{}/checkpoints: cannot create: {}", opt_.out_dir, ec.message()));
+    const std::string path = checkpoint_path(opt_.out_dir, sim_.steps());
+    write_checkpoint_file(path, ar.bytes());
+    prune_checkpoints(opt_.out_dir, c_.checkpoint.keep);
+    last_checkpoint_ = path;
+  }
+
+  void finish(RunResult& r, Clock::time_point wall0, int threads) {
+    r.steps = sim_.steps();
+    r.simulated_time = sim_.time();
+    r.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+    r.particle_updates_per_second =
+        stepping_ > 0 ? static_cast<double>(r.particles) * static_cast<double>(r.steps) / stepping_
+                      : 0.0;
+    if (!writer_) writer_.emplace(opt_.out_dir, sim_);
+    writer_->write_summary(sim_, r.status, r.wall_seconds, stepping_, threads, r.message,
+                           monitor_ ? monitor_->json(sim_, settle_ke_) : nlohmann::json::object());
+  }
+
+  const Case& c_;
+  const RunOptions& opt_;
+  Simulation<D> sim_;
+  std::optional<RunWriter<D>> writer_;
+  std::optional<ResultsMonitor<D>> monitor_;
+  double settle_ke_ = 0.0;
+  double stepping_ = 0.0; // wall seconds inside step(), settling included
+  std::int64_t frame_ = 1;
+  std::string last_checkpoint_;
+};
+
+template <int D>
+RunResult run_dim(const Case& c, const RunOptions& opt, LoadArchive* restore = nullptr,
+                  const std::string& restored_from = "") {
+  Runner<D> runner(c, opt);
+  return runner.run(restore, restored_from);
 }
 
 } // namespace
 
 RunResult run_case(const Case& c, const RunOptions& opt) {
   return c.simulation.dimension == 2 ? run_dim<2>(c, opt) : run_dim<3>(c, opt);
+}
+
+RunResult restart_run(const RunOptions& opt) {
+  const auto found = list_checkpoints(opt.out_dir);
+  if (found.empty())
+    throw CheckpointError(fmt::format("{}: no checkpoint to restart from (looked in "
+                                      "{}/checkpoints)",
+                                      opt.out_dir, opt.out_dir));
+  std::string errors;
+  for (const std::string& path : found) {
+    std::string payload;
+    try {
+      payload = read_checkpoint_file(path);
+    } catch (const CheckpointError& e) {
+      if (opt.log) *opt.log << "talus: skipping " << e.what() << "\n";
+      errors += std::string("\n  ") + e.what();
+      continue;
+    }
+    LoadArchive ar(payload, path);
+    int dim = 0;
+    std::string file, text;
+    ar.io(dim), ar.io(file), ar.io(text);
+    // Relative polygon files resolve against the original case file, as in the first run.
+    const Case c = parse_case_text(text, file, {});
+    if (dim != c.simulation.dimension) throw CheckpointError(path + ": dimension mismatch");
+    return dim == 2 ? run_dim<2>(c, opt, &ar, path) : run_dim<3>(c, opt, &ar, path);
+  }
+  throw CheckpointError(fmt::format("{}: no readable checkpoint:{}", opt.out_dir, errors));
 }
 
 } // namespace talus

@@ -15,10 +15,14 @@ struct RunOptions {
   int threads = 0;                       // 0: OpenMP's default
   std::optional<std::int64_t> max_steps; // stop early (tests, benchmarks)
   std::ostream* log = nullptr;           // progress and messages; null: silent
+  // Fault injection for the restart tests: raise this signal right after this step.
+  int inject_signal = 0;
+  std::int64_t inject_signal_step = -1;
 };
 
 struct RunResult {
-  std::string status;  // completed, failed
+  std::string status;  // completed, failed, interrupted
+  int signal = 0;      // the signal that interrupted the run
   std::string message; // why it failed
   std::int64_t steps = 0;
   double simulated_time = 0.0;
@@ -30,6 +34,10 @@ struct RunResult {
 // Runs the case into opt.out_dir. Errors in the physics end the run with status "failed" and a
 // summary naming the step, time and particle; output errors throw OutputError.
 RunResult run_case(const Case& c, const RunOptions& opt);
+
+// Continues the run in opt.out_dir from its newest readable checkpoint (older ones if the newest
+// is damaged), into the same folder. Throws CheckpointError if there is none.
+RunResult restart_run(const RunOptions& opt);
 
 // Sets the number of OpenMP threads (0 leaves the default) and returns the number in use.
 int set_threads(int threads);

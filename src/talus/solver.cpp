@@ -105,6 +105,28 @@ double Simulation<D>::compute_time_step() const {
   return std::min(dt, case_data_.simulation.dt_max);
 }
 
+// The CFL step fell below its floor: name the particle that sets it (fastest wave plus speed).
+template <int D>
+void Simulation<D>::report_time_step_collapse(double stable, double floor) const {
+  const auto& P = particles_;
+  std::size_t worst = 0;
+  double worst_speed = -1.0;
+  for (int b = 0; b < P.num_bodies(); ++b) {
+    const double modulus = case_data_.bodies[b].rigid ? 0.0 : body_material_[b].p_wave_modulus();
+    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
+      const double speed = std::sqrt(modulus * P.vol[p] / P.m[p]) + P.v[p].norm();
+      if (speed > worst_speed) worst_speed = speed, worst = p;
+    }
+  }
+  throw SimulationError(fmt::format(
+      "step {}, time {:.6g} s: body '{}', particle {} (id {}) at ({}): time step collapsed to "
+      "{:.3g} s, below the floor {:.3g} s (simulation.dt_min): speed {:.4g} m/s, volume ratio "
+      "{:.3g}",
+      steps_, time_, case_data_.bodies[P.body_of(worst)].name, worst, P.id[worst],
+      fmt::join(P.x[worst].data(), P.x[worst].data() + D, ", "), stable, floor, P.v[worst].norm(),
+      P.vol[worst] / P.vol0[worst]));
+}
+
 template <int D>
 void Simulation<D>::check_particles() const {
   const auto& P = particles_;
@@ -523,7 +545,11 @@ template <int D>
 void Simulation<D>::step(double dt_limit) {
   const auto t0 = Clock::now();
   check_particles();
-  dt_ = std::min(compute_time_step(), dt_limit);
+  const double stable = compute_time_step();
+  if (dt_reference_ == 0.0 && std::isfinite(stable)) dt_reference_ = stable;
+  const double floor = case_data_.simulation.dt_min.value_or(1e-4 * dt_reference_);
+  if (!case_data_.simulation.dt && stable < floor) report_time_step_collapse(stable, floor);
+  dt_ = std::min(stable, dt_limit);
   if (steps_ % sort_interval_ == 0) sort_particles_by_cell();
   bin_particles_by_slab();
   fit_body_fields();

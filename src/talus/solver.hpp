@@ -7,6 +7,7 @@
 #include "talus/contact.hpp"
 #include "talus/grid.hpp"
 #include "talus/nodes.hpp"
+#include "talus/output/checkpoint.hpp"
 #include "talus/particles.hpp"
 
 #include <cstdint>
@@ -70,6 +71,20 @@ public:
   // Index of the particle nearest `point` in body b (for probes).
   std::size_t nearest_particle(int body, const Vec<D>& point) const;
 
+  // Saves or restores everything that evolves (particles, clocks, last step's forces): a restored
+  // simulation continues bitwise as the saved one would have. The rest is rebuilt from the case.
+  template <class Ar>
+  void serialize(Ar& ar, const std::string& source) {
+    io_expect(ar, particles_.body_begin, "bodies and particle counts", source);
+    particles_.for_each_array([&](auto& a) {
+      ar.io(a);
+      if (a.size() != particles_.size())
+        throw CheckpointError(source + ": corrupt checkpoint (particle array length)");
+    });
+    ar.io(time_), ar.io(dt_), ar.io(dt_reference_), ar.io(steps_), ar.io(settling_);
+    ar.io(index_of_id_), ar.io(contact_force_), ar.io(interface_force_);
+  }
+
   // Initial conditions that a case file cannot express (tests set a velocity field here).
   Particles<D>& particles_mut() { return particles_; }
 
@@ -96,6 +111,7 @@ public:
 private:
   template <class Model>
   void map_nodes_to_body(int body, double dt, const Gather& what, const Model* model);
+  [[noreturn]] void report_time_step_collapse(double stable, double floor) const;
   void impose_rigid_velocity(std::vector<Vec<D>> BodyField<D>::*velocity);
   // Calls f(p, body) for every particle, slab colour by slab colour, so that no two threads
   // write one node and every node sums its particles in one fixed order (thread-count independent).
@@ -131,6 +147,7 @@ private:
 
   double time_ = 0.0;
   double dt_ = 0.0;
+  double dt_reference_ = 0.0; // the first stable step: the floor is a fraction of it
   std::int64_t steps_ = 0;
   int sort_interval_ = 20;
   bool settling_ = false;

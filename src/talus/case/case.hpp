@@ -24,6 +24,8 @@ struct SimulationSettings {
   double cfl = 0.4;         // used when dt is not given
   std::optional<double> dt; // fixed time step
   double dt_max = inf;      // cap on the CFL step
+  // Floor of the CFL step: below it the run stops as blown up (default 1e-4 of the first step).
+  std::optional<double> dt_min;
   Vec3a gravity{0.0, 0.0, 0.0};
   Scheme scheme = Scheme::musl;
   double flip = 1.0;    // 1 = pure FLIP, 0 = pure PIC
@@ -111,6 +113,14 @@ struct ProbeSpec {
   Vec3a near{};
 };
 
+// Checkpoints for restart (output/checkpoint.hpp): every `every` simulated seconds and every
+// `wall_minutes` of wall time (0 turns either off), keeping the newest `keep`.
+struct CheckpointSettings {
+  double every = 0.0;
+  double wall_minutes = 15.0;
+  int keep = 2;
+};
+
 struct OutputSettings {
   double every = 0.0;              // simulated seconds between frames and CSV rows (0: end only)
   bool particles = true;           // write particles_NNNNNN.vtu
@@ -153,6 +163,7 @@ struct Case {
   ResultsSpec results;
   std::vector<ProbeSpec> probes;
   OutputSettings output;
+  CheckpointSettings checkpoint;
 };
 
 } // namespace talus

@@ -258,6 +258,8 @@ SimulationSettings read_simulation(TableReader& r) {
   if (s.dt) require(r, "dt", *s.dt > 0.0, "must be > 0 s");
   s.dt_max = r.number("dt_max", inf);
   require(r, "dt_max", s.dt_max > 0.0, "must be > 0 s");
+  s.dt_min = r.optional_number("dt_min");
+  if (s.dt_min) require(r, "dt_min", *s.dt_min > 0.0, "must be > 0 s");
   s.gravity = r.vector("gravity", s.dimension, Vec3a{0.0, 0.0, 0.0});
   const std::string scheme = r.choice("scheme", {"usf", "usl", "musl"}, "musl");
   s.scheme = scheme == "usf" ? Scheme::usf : scheme == "usl" ? Scheme::usl : Scheme::musl;
@@ -749,6 +751,16 @@ Case parse_case_text(const std::string& text, const std::string& path,
       }
     }
     ro.finish();
+  }
+  if (const toml::table* ck = root.table("checkpoint")) {
+    TableReader rc(*ck, "checkpoint", where);
+    c.checkpoint.every = rc.number("every", 0.0);
+    require(rc, "every", c.checkpoint.every >= 0.0, "must be >= 0 s (0: off)");
+    c.checkpoint.wall_minutes = rc.number("wall_minutes", 15.0);
+    require(rc, "wall_minutes", c.checkpoint.wall_minutes >= 0.0, "must be >= 0 min (0: off)");
+    c.checkpoint.keep = static_cast<int>(rc.integer("keep", 2));
+    require(rc, "keep", c.checkpoint.keep >= 1 && c.checkpoint.keep <= 100, "must be in [1, 100]");
+    rc.finish();
   }
   root.finish();
   return c;

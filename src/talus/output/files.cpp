@@ -36,6 +36,13 @@ void write_file_atomic(const std::string& path, std::string_view content) {
     ::unlink(tmp.c_str());
     throw OutputError(fmt::format("{}: cannot rename into place: {}", path, std::strerror(err)));
   }
+  // Make the rename itself durable: a crash after this leaves the new file, never none.
+  const auto slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : path.substr(0, slash + 1);
+  if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
 }
 
 } // namespace talus

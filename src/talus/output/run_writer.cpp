@@ -98,8 +98,15 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
       mats.push_back(b.material);
     write_file_atomic(dir_ + "/" + name, particles_to_vtu<D>(P, mats, VtuFields{c.output.fields}));
     frames_.emplace_back(t, name);
-    write_file_atomic(dir_ + "/particles.pvd", pvd_collection(frames_));
   }
+  write_tables(sim);
+}
+
+template <int D>
+void RunWriter<D>::write_tables(const Simulation<D>& sim) const {
+  const Case& c = sim.case_();
+  const int B = sim.num_bodies();
+  if (c.output.particles) write_file_atomic(dir_ + "/particles.pvd", pvd_collection(frames_));
   write_file_atomic(dir_ + "/energy.csv", energy_);
   write_file_atomic(dir_ + "/bodies.csv", bodies_);
   if (!probe_ids_.empty()) write_file_atomic(dir_ + "/probes.csv", probes_);

@@ -22,6 +22,17 @@ public:
                      double stepping_seconds, int threads, const std::string& message,
                      const nlohmann::json& results = nlohmann::json::object());
 
+  // Rewrites the CSVs and particles.pvd from the tables held in memory (after a restart, this
+  // drops any row a killed run wrote after its last checkpoint).
+  void write_tables(const Simulation<D>& sim) const;
+
+  // The tables and frame list, for checkpoints.
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.io(probe_ids_), ar.io(energy_), ar.io(bodies_), ar.io(probes_), ar.io(contacts_);
+    ar.io(interfaces_), ar.io(frames_);
+  }
+
   const std::string& dir() const { return dir_; }
 
 private:

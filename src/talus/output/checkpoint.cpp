@@ -1,0 +1,107 @@
+#include "talus/output/checkpoint.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <sstream>
+
+namespace talus {
+
+namespace {
+
+constexpr char magic[8] = {'T', 'A', 'L', 'U', 'S', 'C', 'K', 'P'};
+constexpr std::uint32_t format_version = 1;
+
+std::uint64_t fnv1a(std::string_view s) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (const char c : s)
+    h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+  return h;
+}
+
+template <class T>
+void append(std::string& out, const T& v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+} // namespace
+
+std::size_t LoadArchive::count(std::size_t element_size) {
+  std::uint64_t n = 0;
+  io(n);
+  if (n > (data_.size() - pos_) / element_size)
+    throw CheckpointError(
+        fmt::format("{}: corrupt checkpoint (a length of {} at byte {})", source_, n, pos_));
+  return static_cast<std::size_t>(n);
+}
+
+void LoadArchive::raw(void* p, std::size_t n) {
+  if (n > data_.size() - pos_)
+    throw CheckpointError(fmt::format("{}: corrupt checkpoint (ends at byte {})", source_, pos_));
+  std::memcpy(p, data_.data() + pos_, n);
+  pos_ += n;
+}
+
+void write_checkpoint_file(const std::string& path, const std::string& payload) {
+  std::string file;
+  file.reserve(payload.size() + 32);
+  file.append(magic, sizeof magic);
+  append(file, format_version);
+  append(file, static_cast<std::uint64_t>(payload.size()));
+  file += payload;
+  append(file, fnv1a(payload));
+  write_file_atomic(path, file);
+}
+
+std::string read_checkpoint_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CheckpointError(fmt::format("{}: cannot open the checkpoint", path));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  const std::string file = std::move(ss).str();
+  constexpr std::size_t header = sizeof magic + sizeof(std::uint32_t) + sizeof(std::uint64_t);
+  if (file.size() < header + sizeof(std::uint64_t) || file.compare(0, sizeof magic, magic, 8) != 0)
+    throw CheckpointError(fmt::format("{}: not a Talus checkpoint", path));
+  std::uint32_t version = 0;
+  std::uint64_t size = 0, sum = 0;
+  std::memcpy(&version, file.data() + sizeof magic, sizeof version);
+  std::memcpy(&size, file.data() + sizeof magic + sizeof version, sizeof size);
+  if (version != format_version)
+    throw CheckpointError(fmt::format("{}: checkpoint format {}, this Talus reads {}", path,
+                                      version, format_version));
+  if (size != file.size() - header - sizeof sum)
+    throw CheckpointError(fmt::format("{}: truncated checkpoint ({} of {} bytes)", path,
+                                      file.size(), size + header + sizeof sum));
+  std::memcpy(&sum, file.data() + header + size, sizeof sum);
+  std::string payload = file.substr(header, size);
+  if (fnv1a(payload) != sum)
+    throw CheckpointError(fmt::format("{}: corrupt checkpoint (checksum mismatch)", path));
+  return payload;
+}
+
+std::string checkpoint_path(const std::string& run_dir, std::int64_t step) {
+  return fmt::format("{}/checkpoints/step_{:010d}.ckpt", run_dir, step);
+}
+
+std::vector<std::string> list_checkpoints(const std::string& run_dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> found;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(run_dir + "/checkpoints", ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.starts_with("step_") && name.ends_with(".ckpt")) found.push_back(e.path().string());
+  }
+  std::sort(found.rbegin(), found.rend()); // zero-padded step numbers: newest first
+  return found;
+}
+
+void prune_checkpoints(const std::string& run_dir, int keep) {
+  const auto all = list_checkpoints(run_dir);
+  for (std::size_t i = static_cast<std::size_t>(std::max(keep, 1)); i < all.size(); ++i) {
+    std::error_code ec;
+    std::filesystem::remove(all[i], ec);
+  }
+}
+
+} // namespace talus
