@@ -2,6 +2,8 @@
 #include "bench.hpp"
 #include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
+#include "talus/case/size.hpp"
+#include "talus/interface.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/files.hpp"
 #include "talus/run.hpp"
@@ -18,44 +20,57 @@
 
 namespace {
 
-// Bytes per particle and per grid node of the solver's arrays (see particles.hpp, nodes.hpp).
-constexpr double particle_bytes(int dim) {
-  return dim == 2 ? 180.0 : 300.0;
-}
-constexpr double node_bytes(int dim) {
-  return dim == 2 ? 90.0 : 130.0;
+// Fills the bodies as a run would (so overlaps and interfaces that bond nothing are reported
+// here too) and returns the particle count of each body.
+template <int D>
+std::vector<std::size_t> fill_for_check(const talus::Case& c) {
+  talus::Particles<D> P = talus::fill_particles<D>(c);
+  talus::check_body_overlaps<D>(c, P);
+  for (const std::string& w : talus::mark_interface_particles<D>(c, P))
+    fmt::print(stderr, "warning: {}\n", w);
+  std::vector<std::size_t> n;
+  for (int b = 0; b < P.num_bodies(); ++b)
+    n.push_back(P.body_begin[b + 1] - P.body_begin[b]);
+  return n;
 }
 
 int check(const talus::Case& c) {
   const int dim = c.simulation.dimension;
+  const std::vector<std::size_t> counts = dim == 2 ? fill_for_check<2>(c) : fill_for_check<3>(c);
   std::size_t total = 0;
   double max_wave = 0.0;
   fmt::print("case {}: {}\n", c.file, c.title);
   for (std::size_t b = 0; b < c.bodies.size(); ++b) {
-    const std::size_t n = talus::count_particles(c, b);
-    talus::require_particles(c, b, n);
-    total += n;
+    total += counts[b];
     const auto& mat = c.materials[c.bodies[b].material];
     if (!c.bodies[b].rigid) // a rigid body carries no stress wave
       max_wave = std::max(max_wave, std::sqrt(mat.p_wave_modulus() / mat.density()));
-    fmt::print("  body {:<16} {:>10} particles  material {}\n", c.bodies[b].name, n, mat.name);
+    fmt::print("  body {:<16} {:>10} particles  material {}\n", c.bodies[b].name, counts[b],
+               mat.name);
   }
-  double nodes = 1.0;
-  for (int d = 0; d < dim; ++d)
-    nodes *= std::ceil(c.grid.extent[d] / c.grid.cell_size - 1e-9) + 1.0;
-  const double dt = c.simulation.dt ? *c.simulation.dt
-                                    : std::min(c.simulation.dt_max,
-                                               c.simulation.cfl * c.grid.cell_size / max_wave);
+  const double nodes = talus::grid_nodes(c.grid, dim);
+  const double cfl_dt =
+      std::min(c.simulation.dt_max, c.simulation.cfl * c.grid.cell_size / max_wave);
+  const double dt = c.simulation.dt ? *c.simulation.dt : cfl_dt;
   const double steps = std::ceil(c.simulation.end_time / dt);
-  const double memory = total * particle_bytes(dim) + nodes * node_bytes(dim);
-  constexpr double assumed_rate =
-      5e6; // particle-updates per second, 2 threads (docs/performance.md)
+  // The velocity fields span each body's box: bounded here by the whole grid per body.
+  const double memory =
+      total * talus::bytes_per_particle(dim) +
+      nodes * (talus::bytes_per_grid_node + talus::bytes_per_field_node(dim) * c.bodies.size());
+  constexpr double assumed_rate = 5e6; // particle-updates/s on 2 threads (docs/performance.md)
   fmt::print("  {} particles, {:.0f} grid nodes ({}D, cell {} m)\n", total, nodes, dim,
              c.grid.cell_size);
-  fmt::print("  time step {:.3g} s ({}), about {:.0f} steps to {} s\n", dt,
+  fmt::print("  time step {:.3g} s ({}), about {:.3g} steps to {} s\n", dt,
              c.simulation.dt ? "fixed" : "CFL at rest", steps, c.simulation.end_time);
-  fmt::print("  memory about {:.1f} MB; run time about {:.0f} s at {:.0e} particle-updates/s\n",
-             memory / 1e6, total * steps / assumed_rate, assumed_rate);
+  fmt::print("  memory at most about {:.1f} MB (this machine: {:.1f} GB); run time about {:.3g} "
+             "s at {:.0e} particle-updates/s\n",
+             memory / 1e6, talus::machine_memory() / 1e9, total * steps / assumed_rate,
+             assumed_rate);
+  if (c.simulation.dt && *c.simulation.dt > cfl_dt)
+    fmt::print(stderr,
+               "warning: simulation.dt = {:.3g} s is {:.3g} times the stable (CFL {}) step "
+               "{:.3g} s of the stiffest body: expect the run to blow up\n",
+               *c.simulation.dt, *c.simulation.dt / cfl_dt, c.simulation.cfl, cfl_dt);
   return 0;
 }
 

@@ -5,14 +5,23 @@
 #include "talus/case/case.hpp"
 #include "talus/particles.hpp"
 
+#include <string>
+#include <vector>
+
 namespace talus {
 
 // Marks, for each [[interface]] (a, b), the particles of a that have a particle of b within 1.5
 // particle spacings, and vice versa: the first row of each body along the shared boundary. Each
 // gets the contact area of its face, A^p = s^(D-1) (s the particle spacing of its body), and the
-// interface's initial cohesion and friction.
+// interface's initial cohesion and friction. Returns a warning for each side with no such
+// particle (bodies that do not touch at the start: the interface bonds nothing).
 template <int D>
-void mark_interface_particles(const Case& c, Particles<D>& P);
+std::vector<std::string> mark_interface_particles(const Case& c, Particles<D>& P);
+
+// Throws CaseError naming two bodies and a point if particles of different bodies lie closer than
+// half a particle spacing (their shapes overlap; touching shapes keep a whole spacing).
+template <int D>
+void check_body_overlaps(const Case& c, const Particles<D>& P);
 
 // Tensile strength of an interface particle with current cohesion c (degrades with it).
 inline double tensile_strength(const InterfaceSpec& f, double c) {

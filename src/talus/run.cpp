@@ -210,6 +210,9 @@ public:
           restore ? fmt::format(" (restarted at step {}, {} {:.6g} s)", sim_.steps(),
                                 sim_.settling() ? "settling" : "time", sim_.time())
                   : "");
+    if (opt_.log)
+      for (const std::string& w : sim_.warnings())
+        *opt_.log << "talus: warning: " << w << "\n";
     r.status = "completed";
     try {
       loop(r);

@@ -46,11 +46,12 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     origin[d] = c.grid.origin[d], extent[d] = c.grid.extent[d];
   grid_ = Grid<D>(origin, extent, c.grid.cell_size);
   particles_ = fill_particles<D>(c);
+  check_body_overlaps<D>(c, particles_);
   if (c.initial_state.method == InitialState::Method::k0) apply_k0_stress<D>(c, particles_);
   index_of_id_.resize(particles_.size());
   for (std::size_t p = 0; p < particles_.size(); ++p)
     index_of_id_[particles_.id[p]] = static_cast<std::uint32_t>(p);
-  mark_interface_particles<D>(c, particles_);
+  warnings_ = mark_interface_particles<D>(c, particles_);
   const int B = particles_.num_bodies();
   fields_.resize(B);
   body_mass_.assign(B, 0.0);
@@ -67,9 +68,13 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   }
   pair_friction_.assign(B * B, c.contact.friction);
   pair_interface_.assign(B * B, -1);
-  for (std::size_t f = 0; f < c.interfaces.size(); ++f)
-    pair_interface_[c.interfaces[f].a * B + c.interfaces[f].b] =
-        pair_interface_[c.interfaces[f].b * B + c.interfaces[f].a] = static_cast<int>(f);
+  // An interface pair slides with its interface's friction where no interface particle is
+  // (bodies that meet only later), unless a [[contact]] entry names the pair (applied below).
+  for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
+    const int a = c.interfaces[f].a, b = c.interfaces[f].b;
+    pair_interface_[a * B + b] = pair_interface_[b * B + a] = static_cast<int>(f);
+    pair_friction_[a * B + b] = pair_friction_[b * B + a] = c.interfaces[f].friction.initial;
+  }
   interface_force_.assign(c.interfaces.size(), InterfaceForce{});
   for (const ContactPair& pair : c.contact.pairs)
     pair_friction_[pair.a * B + pair.b] = pair_friction_[pair.b * B + pair.a] = pair.friction;

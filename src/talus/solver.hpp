@@ -55,6 +55,8 @@ public:
   const Vec<D>& contact_force(int a, int b) const { return contact_force_[a * num_bodies() + b]; }
   int num_bodies() const { return particles_.num_bodies(); }
   const std::vector<InterfaceForce>& interface_forces() const { return interface_force_; }
+  // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
   // Settling (initial_state.settle_time): damped, interfaces held. release() ends it: time
   // restarts at 0 and displacements are measured from the current positions.
@@ -153,6 +155,7 @@ private:
   bool settling_ = false;
   std::vector<std::uint32_t> index_of_id_;
   PhaseTimes phase_times_;
+  std::vector<std::string> warnings_;
 };
 
 } // namespace talus

@@ -138,7 +138,8 @@ INSTANTIATE_TEST_SUITE_P(
                 "grid.boundary.y_min: 'fix' is not one of: free, fixed, slip"},
         BadCase{"vector_length", "gravity = [0, -9.81]", "gravity = [0, -9.81, 0]",
                 "simulation.gravity: expected an array of 2 numbers"},
-        BadCase{"dimension", "dimension = 2", "dimension = 4", "simulation.dimension: must be 2"},
+        BadCase{"dimension", "dimension = 2", "dimension = 4",
+                "simulation.dimension: must be in [2, 3], got 4"},
         BadCase{"flip_range", "flip = 0.95", "flip = 1.5", "simulation.flip: must be in [0, 1]"},
         BadCase{
             "two_geometries", "box = { min = [0, 0], max = [1, 0.5] }",
@@ -152,7 +153,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"probe_body", "body = \"block\"\nnear", "body = \"blok\"\nnear",
                 "probe[0].body: no body is named 'blok'"},
         BadCase{"ppc_range", "particles_per_cell = 2", "particles_per_cell = 0",
-                "body[0].particles_per_cell: must be 1 to 8"},
+                "body[0].particles_per_cell: must be in [1, 8], got 0"},
         BadCase{"nan", "end_time = 1.0", "end_time = nan",
                 "simulation.end_time: must be a finite number"},
         BadCase{"missing_polygon_file", "box = { min = [0, 0], max = [1, 0.5] }",

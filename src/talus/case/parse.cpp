@@ -1,5 +1,7 @@
 #include "talus/case/parse.hpp"
 
+#include "talus/case/size.hpp"
+
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -7,6 +9,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <tuple>
@@ -113,11 +116,20 @@ public:
     if (!has(key)) return std::nullopt;
     return number(key);
   }
-  long long integer(const std::string& key, long long fallback) {
+  // An integer in [lo, hi] (checked before any narrowing, so 2^32 + 2 is not 2).
+  int integer(const std::string& key, int fallback, int lo, int hi) {
     const toml::node* n = find(key);
     if (!n) return fallback;
     if (!n->is_integer()) fail(key, fmt::format("expected an integer, got {}", type_name(*n)));
-    return n->value<long long>().value();
+    const long long v = n->value<long long>().value();
+    if (v < lo || v > hi) fail(key, fmt::format("must be in [{}, {}], got {}", lo, hi, v));
+    return static_cast<int>(v);
+  }
+  // A name: a non-empty string.
+  std::string name(const std::string& key, const std::string& fallback) {
+    const std::string s = has(key) || fallback.empty() ? string(key) : fallback;
+    if (s.find_first_not_of(" \t") == std::string::npos) fail(key, "must not be empty");
+    return s;
   }
   bool boolean(const std::string& key, bool fallback) {
     const toml::node* n = find(key);
@@ -248,7 +260,7 @@ void require(TableReader& r, const std::string& key, bool ok, const std::string&
 
 SimulationSettings read_simulation(TableReader& r) {
   SimulationSettings s;
-  s.dimension = static_cast<int>(r.integer("dimension", 2));
+  s.dimension = r.integer("dimension", 2, 2, 3);
   require(r, "dimension", s.dimension == 2 || s.dimension == 3, "must be 2 (plane strain) or 3");
   s.end_time = r.number("end_time");
   require(r, "end_time", s.end_time > 0.0, "must be > 0 s");
@@ -258,6 +270,8 @@ SimulationSettings read_simulation(TableReader& r) {
   if (s.dt) require(r, "dt", *s.dt > 0.0, "must be > 0 s");
   s.dt_max = r.number("dt_max", inf);
   require(r, "dt_max", s.dt_max > 0.0, "must be > 0 s");
+  if (s.dt && r.has("dt_max"))
+    r.fail("dt_max", "caps the CFL step, so it cannot go with a fixed dt: remove one");
   s.dt_min = r.optional_number("dt_min");
   if (s.dt_min) require(r, "dt_min", *s.dt_min > 0.0, "must be > 0 s");
   s.gravity = r.vector("gravity", s.dimension, Vec3a{0.0, 0.0, 0.0});
@@ -283,6 +297,11 @@ GridSettings read_grid(TableReader& r, int dim) {
     require(r, "cell_size", n >= 2.0, "the grid needs at least 2 cells per direction");
     require(r, "cell_size", n <= 1e7, "more than 1e7 cells per direction");
   }
+  const double nodes = grid_nodes(g, dim), need = nodes * bytes_per_grid_node;
+  if (need > machine_memory())
+    r.fail("cell_size", fmt::format("{:.3g} grid nodes need about {:.3g} GB, more than this "
+                                    "machine's {:.3g} GB: use larger cells",
+                                    nodes, need / 1e9, machine_memory() / 1e9));
   g.shape = r.choice("shape_function", {"linear", "gimp"}, "gimp") == "linear" ? ShapeKind::linear
                                                                                : ShapeKind::gimp;
   g.faces.fill(FaceCondition::free);
@@ -332,8 +351,8 @@ MohrCoulombStrength read_strength(TableReader& r) {
     require(r, "residual_cohesion", s.residual_cohesion >= 0.0 && s.residual_cohesion <= s.cohesion,
             "must be in [0, cohesion] Pa");
     const double phi_r = r.number("residual_friction_angle", phi);
-    require(r, "residual_friction_angle", phi_r > 0.0 && phi_r <= phi,
-            "must be in (0, friction_angle] degrees");
+    require(r, "residual_friction_angle", phi_r >= 0.0 && phi_r <= phi,
+            "must be in [0, friction_angle] degrees");
     s.residual_friction_angle = phi_r * degrees;
   }
   return s;
@@ -341,7 +360,7 @@ MohrCoulombStrength read_strength(TableReader& r) {
 
 Material read_material(TableReader& r) {
   Material m;
-  m.name = r.string("name");
+  m.name = r.name("name", "");
   const std::string model =
       r.choice("model", {"linear_elastic", "drucker_prager", "mohr_coulomb"}, "linear_elastic");
   const double density = r.number("density");
@@ -393,6 +412,37 @@ std::pair<int, int> read_body_pair(TableReader& r, const std::vector<std::string
   return {ids[0], ids[1]};
 }
 
+constexpr std::size_t max_polygon_vertices = 20000;
+
+// The first pair of non-adjacent edges (i, i+1) and (j, j+1) that touch or cross, if any: such a
+// polygon has no well-defined inside. O(n^2), n <= max_polygon_vertices.
+std::optional<std::pair<std::size_t, std::size_t>>
+self_intersection(const std::vector<std::array<double, 2>>& v) {
+  const std::size_t n = v.size();
+  auto orient = [](const std::array<double, 2>& a, const std::array<double, 2>& b,
+                   const std::array<double, 2>& c) {
+    const double o = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    return (o > 0) - (o < 0);
+  };
+  auto on_segment = [](const std::array<double, 2>& a, const std::array<double, 2>& b,
+                       const std::array<double, 2>& c) { // c collinear with a-b
+    return std::min(a[0], b[0]) <= c[0] && c[0] <= std::max(a[0], b[0]) &&
+           std::min(a[1], b[1]) <= c[1] && c[1] <= std::max(a[1], b[1]);
+  };
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue; // adjacent through the closing edge
+      const auto &a = v[i], &b = v[(i + 1) % n], &c = v[j], &d = v[(j + 1) % n];
+      const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
+                o4 = orient(c, d, b);
+      if ((o1 != o2 && o3 != o4) || (o1 == 0 && on_segment(a, b, c)) ||
+          (o2 == 0 && on_segment(a, b, d)) || (o3 == 0 && on_segment(c, d, a)) ||
+          (o4 == 0 && on_segment(c, d, b)))
+        return std::make_pair(i, j);
+    }
+  return std::nullopt;
+}
+
 Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& base_dir) {
   const std::vector<std::string> kinds = {"box", "polygon", "disk", "sphere"};
   std::vector<std::string> present;
@@ -418,6 +468,7 @@ Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& bas
     g.kind = Geometry::Kind::polygon;
     const toml::node* n = r.find("polygon");
     if (n->is_string()) {
+      if (n->value<std::string>()->empty()) r.fail("polygon", "the file name is empty");
       const std::filesystem::path p = base_dir / n->value<std::string>().value();
       g.polygon_file = p.string();
       try {
@@ -434,6 +485,16 @@ Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& bas
       r.fail("polygon", "expected a CSV file name or an array of [x, y] vertices");
     }
     if (g.vertices.size() < 3) r.fail("polygon", "a polygon needs at least 3 vertices");
+    if (g.vertices.size() > max_polygon_vertices)
+      r.fail("polygon", fmt::format("{} vertices, more than {}: simplify the polygon",
+                                    g.vertices.size(), max_polygon_vertices));
+    if (const auto cross = self_intersection(g.vertices))
+      r.fail("polygon",
+             fmt::format("the polygon crosses itself: edge {} ({}, {})-({}, {}) meets "
+                         "edge {} (vertices are numbered from 0)",
+                         cross->first, g.vertices[cross->first][0], g.vertices[cross->first][1],
+                         g.vertices[(cross->first + 1) % g.vertices.size()][0],
+                         g.vertices[(cross->first + 1) % g.vertices.size()][1], cross->second));
     double area = 0.0;
     for (std::size_t i = 0; i < g.vertices.size(); ++i) {
       const auto& a = g.vertices[i];
@@ -506,7 +567,6 @@ void apply_override(toml::table& doc, const std::string& spec, const std::string
   }
   auto* t = node->as_table();
   if (!t) throw CaseError(fmt::format("{}: --set {}: '{}' is not a table", file, path, walked));
-  toml::node_view<toml::node> value;
   toml::table parsed;
   try {
     parsed = toml::parse("v = " + text);
@@ -520,9 +580,12 @@ void apply_override(toml::table& doc, const std::string& spec, const std::string
 
 std::vector<std::array<double, 2>> read_polygon_csv(const std::string& path) {
   std::ifstream in(path);
+  if (std::filesystem::is_directory(path))
+    throw CaseError(fmt::format("{}: is a folder, not a polygon file", path));
   if (!in) throw CaseError(fmt::format("{}: cannot open the polygon file", path));
   std::vector<std::array<double, 2>> v;
   std::string line;
+  bool seen_header = false;
   for (int lineno = 1; std::getline(in, line); ++lineno) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.find_first_not_of(" \t") == std::string::npos || line[0] == '#') continue;
@@ -538,7 +601,13 @@ std::vector<std::array<double, 2>> read_polygon_csv(const std::string& path) {
       ok = end != s2 && line.find_first_not_of(" \t", end - s) == std::string::npos;
     }
     if (!ok) {
-      if (v.empty() && !first_ok) continue; // header line such as "x,z"
+      // One header line such as "x,z" or "x (m),y (m)" before the first vertex: words, no digits.
+      const bool header_like =
+          line.find_first_of("0123456789.") == std::string::npos && !seen_header;
+      if (v.empty() && !first_ok && header_like) {
+        seen_header = true;
+        continue;
+      }
       throw CaseError(
           fmt::format("{}:{}: expected two numbers 'x,y', got '{}'", path, lineno, line));
     }
@@ -594,16 +663,15 @@ Case parse_case_text(const std::string& text, const std::string& path,
   if (c.materials.empty()) root.fail_missing("material");
 
   std::vector<std::string> body_names;
+  double memory = grid_nodes(c.grid, dim) * bytes_per_grid_node;
   for_each_entry(root, "body", [&](TableReader& r, std::size_t) {
     BodySpec b;
-    b.name = r.string("name");
+    b.name = r.name("name", "");
     if (std::count(body_names.begin(), body_names.end(), b.name))
       r.fail("name", "two bodies have this name");
     b.material = lookup(r, "material", material_names, "material");
     b.geometry.push_back(read_geometry(r, dim, base_dir));
-    b.particles_per_cell = static_cast<int>(r.integer("particles_per_cell", 2));
-    require(r, "particles_per_cell", b.particles_per_cell >= 1 && b.particles_per_cell <= 8,
-            "must be 1 to 8 (per direction)");
+    b.particles_per_cell = r.integer("particles_per_cell", 2, 1, 8);
     b.velocity = r.vector("velocity", dim, Vec3a{0.0, 0.0, 0.0});
     b.rigid = r.boolean("rigid", false);
     b.geometric_normal = r.boolean("geometric_normal", b.rigid);
@@ -625,6 +693,16 @@ Case parse_case_text(const std::string& text, const std::string& path,
                            "[{}, {}])",
                            "xyz"[d], lo[d], hi[d], g0, g1));
     }
+    // Memory, before anything is allocated: this body's particles and velocity field on top of
+    // the bodies before it and the grid.
+    memory += estimate_particles(b.geometry[0], dim, c.grid.cell_size, b.particles_per_cell) *
+                  bytes_per_particle(dim) +
+              field_nodes(lo, hi, dim, c.grid.cell_size) * bytes_per_field_node(dim);
+    if (memory > machine_memory())
+      r.fail("particles_per_cell",
+             fmt::format("the case needs about {:.3g} GB up to this body, more than this "
+                         "machine's {:.3g} GB: use larger grid cells or fewer particles per cell",
+                         memory / 1e9, machine_memory() / 1e9));
     c.bodies.push_back(std::move(b));
     body_names.push_back(c.bodies.back().name);
   });
@@ -646,6 +724,15 @@ Case parse_case_text(const std::string& text, const std::string& path,
     }
     if (!b.fixed[0] && !b.fixed[1] && !b.fixed[2])
       r.fail("velocity", "a boundary must set velocity or at least one of velocity_x/_y/_z");
+    for (int d = 0; d < dim; ++d) {
+      const double g0 = c.grid.origin[d], g1 = g0 + c.grid.extent[d];
+      if (b.min[d] > b.max[d])
+        r.fail("max", fmt::format("max is below min along {}: the box holds no node", "xyz"[d]));
+      if (b.max[d] < g0 || b.min[d] > g1)
+        r.fail(r.has("min") ? "min" : "max",
+               fmt::format("the box [{}, {}] along {} misses the grid [{}, {}]: it holds no node",
+                           b.min[d], b.max[d], "xyz"[d], g0, g1));
+    }
     c.boundaries.push_back(b);
   });
 
@@ -664,6 +751,10 @@ Case parse_case_text(const std::string& text, const std::string& path,
       return;
     }
     const auto [first, second] = read_body_pair(r, body_names);
+    for (const ContactPair& q : c.contact.pairs)
+      if (std::minmax(q.a, q.b) == std::minmax(first, second))
+        r.fail("bodies", fmt::format("the pair '{}'-'{}' already has a [[contact]] entry",
+                                     body_names[first], body_names[second]));
     c.contact.pairs.push_back(ContactPair{first, second, mu});
   });
 
@@ -671,6 +762,10 @@ Case parse_case_text(const std::string& text, const std::string& path,
   for_each_entry(root, "interface", [&](TableReader& r, std::size_t) {
     InterfaceSpec f;
     std::tie(f.a, f.b) = read_body_pair(r, body_names);
+    for (const InterfaceSpec& q : c.interfaces)
+      if (std::minmax(q.a, q.b) == std::minmax(f.a, f.b))
+        r.fail("bodies", fmt::format("the pair '{}'-'{}' already has an [[interface]] entry",
+                                     body_names[f.a], body_names[f.b]));
     auto degradation = [&](const std::string& key, const std::string& unit) {
       const toml::table* t = r.table(key);
       if (!t) r.fail_missing(key);
@@ -700,9 +795,14 @@ Case parse_case_text(const std::string& text, const std::string& path,
 
   for_each_entry(root, "probe", [&](TableReader& r, std::size_t i) {
     ProbeSpec p;
-    p.name = r.string("name", fmt::format("probe{}", i));
+    p.name = r.name("name", fmt::format("probe{}", i));
+    for (const ProbeSpec& q : c.probes)
+      if (q.name == p.name) r.fail("name", "two probes have this name");
     p.body = lookup(r, "body", body_names, "body");
     p.near = r.vector("near", dim);
+    for (int d = 0; d < dim; ++d)
+      if (p.near[d] < c.grid.origin[d] || p.near[d] > c.grid.origin[d] + c.grid.extent[d])
+        r.fail("near", fmt::format("the point is outside the grid along {}", "xyz"[d]));
     c.probes.push_back(p);
   });
 
@@ -712,8 +812,9 @@ Case parse_case_text(const std::string& text, const std::string& path,
     c.initial_state.method = method == "k0" ? InitialState::Method::k0 : InitialState::Method::none;
     if (ri.has("k0")) {
       c.initial_state.k0 = ri.number("k0");
-      require(ri, "k0", c.initial_state.k0 >= 0.0 && c.initial_state.k0 <= 3.0,
-              "must be in [0, 3]");
+      require(ri, "k0", c.initial_state.k0 > 0.0 && c.initial_state.k0 <= 3.0, "must be in (0, 3]");
+      if (c.initial_state.method != InitialState::Method::k0)
+        ri.fail("k0", "is used only with method = \"k0\"");
     }
     c.initial_state.settle_time = ri.number("settle_time", 0.0);
     require(ri, "settle_time", c.initial_state.settle_time >= 0.0, "must be >= 0 s");
@@ -743,10 +844,13 @@ Case parse_case_text(const std::string& text, const std::string& path,
                                               "body",     "material", "interface"};
       for (std::size_t i = 0; i < f->size(); ++i) {
         const auto s = f->get(i)->value<std::string>();
-        if (!s || std::find(known.begin(), known.end(), *s) == known.end())
-          ro.where().fail(
-              f->get(i)->source(), fmt::format("output.fields[{}]", i),
-              fmt::format("unknown field '{}'{}", s.value_or("?"), suggest(s.value_or(""), known)));
+        if (!s)
+          ro.where().fail(f->get(i)->source(), fmt::format("output.fields[{}]", i),
+                          fmt::format("expected a field name (a string), got {}",
+                                      TableReader::type_name(*f->get(i))));
+        if (std::find(known.begin(), known.end(), *s) == known.end())
+          ro.where().fail(f->get(i)->source(), fmt::format("output.fields[{}]", i),
+                          fmt::format("unknown field '{}'{}", *s, suggest(*s, known)));
         c.output.fields.push_back(*s);
       }
     }
@@ -758,8 +862,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
     require(rc, "every", c.checkpoint.every >= 0.0, "must be >= 0 s (0: off)");
     c.checkpoint.wall_minutes = rc.number("wall_minutes", 15.0);
     require(rc, "wall_minutes", c.checkpoint.wall_minutes >= 0.0, "must be >= 0 min (0: off)");
-    c.checkpoint.keep = static_cast<int>(rc.integer("keep", 2));
-    require(rc, "keep", c.checkpoint.keep >= 1 && c.checkpoint.keep <= 100, "must be in [1, 100]");
+    c.checkpoint.keep = rc.integer("keep", 2, 1, 100);
     rc.finish();
   }
   root.finish();
