@@ -53,8 +53,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const int dim = c.simulation.dimension;
     double particles = 0.0, fields = 0.0;
     for (const talus::BodySpec& b : c.bodies)
-      particles += talus::estimate_particles(b.geometry[0], dim, c.grid.cell_size,
-                                             b.particles_per_cell);
+      particles +=
+          talus::estimate_particles(b.geometry[0], dim, c.grid.cell_size, b.particles_per_cell);
     fields = talus::grid_nodes(c.grid, dim) * static_cast<double>(c.bodies.size());
     if (particles > 2e4 || fields > 2e6) return 0;
     if (dim == 2)
