@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-numpy python3-matplotlib python3-meshio
+  chromium                       # the verification report's browser test
 )
 
 missing=()

@@ -11,12 +11,15 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fmt/format.h>
 #include <iostream>
+#include <unistd.h>
 
 namespace {
 
@@ -150,7 +153,53 @@ int main(int argc, char** argv) {
   bench->add_option("--json", bench_opt.json_out, "also write the figures as JSON here");
   bench->add_option("--source", bench_opt.source_dir, "the Talus source folder (default: .)");
 
+  // verify: the suite lives in tools/verify.py (it drives this program and plots with
+  // matplotlib); this subcommand hands over to it.
+  std::vector<std::string> verify_cases;
+  std::string verify_out = "verification", source_dir = TALUS_SOURCE_DIR;
+  bool verify_full = false, verify_quick = false, update_docs = false;
+  auto* verify = app.add_subcommand(
+      "verify", "run every benchmark against its reference and write DIR/report.html");
+  verify->add_flag("--quick", verify_quick, "CI resolution (the default)");
+  verify->add_flag("--full", verify_full, "the paper's resolution")->excludes("--quick");
+  verify->add_option("--out", verify_out, "report folder (default: verification)");
+  verify->add_option("--cases", verify_cases, "only these cases (file stems)");
+  verify->add_option("--source", source_dir, "the Talus source folder");
+  verify->add_option("--threads", threads, "OpenMP threads per run");
+  verify->add_flag("--update-docs", update_docs, "write the table into docs/verification.md");
+
   CLI11_PARSE(app, argc, argv);
+  if (verify->parsed()) {
+    char self[4096];
+    const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0) {
+      fmt::print(stderr, "error: verify: cannot find this program's path\n");
+      return 2;
+    }
+    self[n] = 0;
+    std::vector<std::string> args = {"/usr/bin/python3",
+                                     source_dir + "/tools/verify.py",
+                                     "--talus",
+                                     self,
+                                     "--source",
+                                     source_dir,
+                                     "--out",
+                                     verify_out,
+                                     verify_full ? "--full" : "--quick"};
+    if (threads > 0) args.insert(args.end(), {"--threads", std::to_string(threads)});
+    if (update_docs) args.emplace_back("--update-docs");
+    if (!verify_cases.empty()) {
+      args.emplace_back("--cases");
+      args.insert(args.end(), verify_cases.begin(), verify_cases.end());
+    }
+    std::vector<char*> argv2;
+    for (auto& a : args)
+      argv2.push_back(a.data());
+    argv2.push_back(nullptr);
+    ::execv(argv2[0], argv2.data());
+    fmt::print(stderr, "error: verify: cannot run {}: {}\n", args[0], std::strerror(errno));
+    return 2;
+  }
   if (bench->parsed()) {
     try {
       return talus::run_bench(bench_opt);

@@ -253,6 +253,12 @@ private:
     if (!monitor_) monitor_.emplace(sim_);
   }
 
+  // A row in every CSV (forces as time means since the previous row) and a frame.
+  void write_frame() {
+    writer_->write_frame(sim_);
+    sim_.reset_force_means();
+  }
+
   void timed_step(double dt_limit) {
     const auto t0 = Clock::now();
     sim_.step(dt_limit);
@@ -280,7 +286,7 @@ private:
                                      T, settle_ke_);
           sim_.release();
           start_output();
-          writer_->write_frame(sim_);
+          write_frame();
           progress.emplace(opt_.log, end, sim_.steps());
           checkpoint_time = next_checkpoint();
           continue;
@@ -289,7 +295,7 @@ private:
       } else {
         if (!writer_) {
           start_output();
-          writer_->write_frame(sim_);
+          write_frame();
         }
         if (end - sim_.time() <= 1e-12 * end) break;
         if (opt_.max_steps && sim_.steps() >= *opt_.max_steps) break;
@@ -297,7 +303,7 @@ private:
         timed_step(next_output - sim_.time());
         monitor_->update(sim_);
         if (sim_.time() >= next_output - 1e-12 * end) {
-          writer_->write_frame(sim_);
+          write_frame();
           ++frame_;
         }
       }

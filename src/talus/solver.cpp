@@ -76,11 +76,13 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     pair_friction_[a * B + b] = pair_friction_[b * B + a] = c.interfaces[f].friction.initial;
   }
   interface_force_.assign(c.interfaces.size(), InterfaceForce{});
+  interface_impulse_.assign(c.interfaces.size(), InterfaceForce{});
   for (const ContactPair& pair : c.contact.pairs)
     pair_friction_[pair.a * B + pair.b] = pair_friction_[pair.b * B + pair.a] = pair.friction;
   contact_law_.gap_cutoff = c.contact.gap_cutoff;
   contact_law_.cell_size = c.grid.cell_size;
   contact_force_.assign(B * B, Vec<D>::Zero());
+  contact_impulse_.assign(B * B, Vec<D>::Zero());
   conditions_ = build_grid_conditions<D>(c, grid_);
   for (int d = 0; d < D; ++d)
     gravity_[d] = c.simulation.gravity[d];
@@ -597,14 +599,30 @@ void Simulation<D>::step(double dt_limit) {
           [&] { map_nodes_to_particles(dt_, {.move = true, .strain_rate = &F::v_remap}); });
     break;
   }
+  for (std::size_t k = 0; k < contact_force_.size(); ++k)
+    contact_impulse_[k] += dt_ * contact_force_[k];
+  for (std::size_t f = 0; f < interface_force_.size(); ++f) {
+    interface_impulse_[f].cohesive += dt_ * interface_force_[f].cohesive;
+    interface_impulse_[f].frictional += dt_ * interface_force_[f].frictional;
+    interface_impulse_[f].normal += dt_ * interface_force_[f].normal;
+  }
+  impulse_time_ += dt_;
   time_ += dt_;
   ++steps_;
+}
+
+template <int D>
+void Simulation<D>::reset_force_means() {
+  std::fill(contact_impulse_.begin(), contact_impulse_.end(), Vec<D>::Zero());
+  std::fill(interface_impulse_.begin(), interface_impulse_.end(), InterfaceForce{});
+  impulse_time_ = 0.0;
 }
 
 template <int D>
 void Simulation<D>::release() {
   settling_ = false;
   time_ = 0.0;
+  reset_force_means();
   particles_.x0 = particles_.x;
 }
 

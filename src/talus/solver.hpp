@@ -55,6 +55,19 @@ public:
   const Vec<D>& contact_force(int a, int b) const { return contact_force_[a * num_bodies() + b]; }
   int num_bodies() const { return particles_.num_bodies(); }
   const std::vector<InterfaceForce>& interface_forces() const { return interface_force_; }
+  // Time means of the contact and interface forces since the last reset_force_means() (the last
+  // step's forces if no time has passed): what the run folder's CSVs record per row.
+  Vec<D> mean_contact_force(int a, int b) const {
+    return impulse_time_ > 0 ? Vec<D>(contact_impulse_[a * num_bodies() + b] / impulse_time_)
+                             : contact_force(a, b);
+  }
+  InterfaceForce mean_interface_force(std::size_t f) const {
+    if (impulse_time_ <= 0) return interface_force_[f];
+    const InterfaceForce& I = interface_impulse_[f];
+    return {I.cohesive / impulse_time_, I.frictional / impulse_time_, I.normal / impulse_time_};
+  }
+  void reset_force_means();
+
   // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -85,6 +98,7 @@ public:
     });
     ar.io(time_), ar.io(dt_), ar.io(dt_reference_), ar.io(steps_), ar.io(settling_);
     ar.io(index_of_id_), ar.io(contact_force_), ar.io(interface_force_);
+    ar.io(contact_impulse_), ar.io(interface_impulse_), ar.io(impulse_time_);
   }
 
   // Initial conditions that a case file cannot express (tests set a velocity field here).
@@ -141,7 +155,10 @@ private:
   std::vector<std::size_t> bin_offset_;
   std::vector<std::uint32_t> particle_bin_;
 
-  std::vector<Vec<D>> contact_force_;           // B x B, last step
+  std::vector<Vec<D>> contact_force_;   // B x B, last step
+  std::vector<Vec<D>> contact_impulse_; // B x B, since reset_force_means()
+  std::vector<InterfaceForce> interface_impulse_;
+  double impulse_time_ = 0.0;
   std::vector<int> pair_interface_;             // B x B: interface index or -1
   std::vector<InterfaceForce> interface_force_; // per interface, last step
   std::vector<InterfaceForce> interface_rows_;  // per grid row x interface

@@ -121,6 +121,20 @@ struct CheckpointSettings {
   int keep = 2;
 };
 
+// A verification check (`talus verify`, tools/verify.py): a quantity of the run compared with a
+// reference (closed form, experiment, paper) within a tolerance, or with bounds. The solver does
+// not use these; they are validated here so a typo fails at once.
+struct CheckSpec {
+  std::string name, quantity, source, known_miss;
+  std::vector<std::string> set; // overrides of the run this check belongs to
+  std::optional<double> time, reference, tolerance, abs_tolerance, min, max;
+};
+
+// Overrides for `talus verify --quick` (CI resolution) and `--full` (the paper's).
+struct VerifySettings {
+  std::vector<std::string> quick, full;
+};
+
 struct OutputSettings {
   double every = 0.0;              // simulated seconds between frames and CSV rows (0: end only)
   bool particles = true;           // write particles_NNNNNN.vtu
@@ -164,6 +178,8 @@ struct Case {
   std::vector<ProbeSpec> probes;
   OutputSettings output;
   CheckpointSettings checkpoint;
+  std::vector<CheckSpec> checks;
+  VerifySettings verify;
 };
 
 } // namespace talus

@@ -412,6 +412,20 @@ std::pair<int, int> read_body_pair(TableReader& r, const std::vector<std::string
   return {ids[0], ids[1]};
 }
 
+// An optional array of strings (e.g. --set style overrides).
+std::vector<std::string> string_list(TableReader& r, const std::string& key) {
+  std::vector<std::string> out;
+  if (!r.has(key)) return out;
+  const toml::array* a = r.array(key);
+  if (!a) r.fail(key, "expected an array of strings");
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    const auto s = a->get(i)->value<std::string>();
+    if (!s) r.fail(key, fmt::format("element {} is not a string", i));
+    out.push_back(*s);
+  }
+  return out;
+}
+
 constexpr std::size_t max_polygon_vertices = 20000;
 
 // The first pair of non-adjacent edges (i, i+1) and (j, j+1) that touch or cross, if any: such a
@@ -856,6 +870,39 @@ Case parse_case_text(const std::string& text, const std::string& path,
     }
     ro.finish();
   }
+  for_each_entry(root, "check", [&](TableReader& r, std::size_t) {
+    CheckSpec k;
+    k.name = r.name("name", "");
+    for (const CheckSpec& q : c.checks)
+      if (q.name == k.name) r.fail("name", "two checks have this name");
+    k.quantity = r.name("quantity", "");
+    k.source = r.name("source", "");
+    if (r.has("known_miss")) k.known_miss = r.name("known_miss", "");
+    k.set = string_list(r, "set");
+    k.time = r.optional_number("time");
+    if (k.time) require(r, "time", *k.time >= 0.0, "must be >= 0 s");
+    k.reference = r.optional_number("reference");
+    k.tolerance = r.optional_number("tolerance");
+    k.abs_tolerance = r.optional_number("abs_tolerance");
+    k.min = r.optional_number("min");
+    k.max = r.optional_number("max");
+    if (k.tolerance) require(r, "tolerance", *k.tolerance > 0.0, "must be > 0 (relative)");
+    if (k.abs_tolerance) require(r, "abs_tolerance", *k.abs_tolerance > 0.0, "must be > 0");
+    if (k.reference.has_value() == (k.min || k.max))
+      r.fail("reference", "give a reference (with tolerance or abs_tolerance) or min/max bounds");
+    if (k.reference && !k.tolerance && !k.abs_tolerance)
+      r.fail("tolerance", "a reference needs tolerance (relative) or abs_tolerance");
+    if (r.has("direction")) r.vector("direction", dim);
+    if (r.has("near")) r.vector("near", dim);
+    c.checks.push_back(k);
+  });
+  if (const toml::table* v = root.table("verify")) {
+    TableReader rv(*v, "verify", where);
+    c.verify.quick = string_list(rv, "quick");
+    c.verify.full = string_list(rv, "full");
+    rv.finish();
+  }
+
   if (const toml::table* ck = root.table("checkpoint")) {
     TableReader rc(*ck, "checkpoint", where);
     c.checkpoint.every = rc.number("every", 0.0);

@@ -75,11 +75,11 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
   const int B = P.num_bodies();
   for (int a = 0; a < B; ++a)
     for (int b = 0; b < B; ++b)
-      if (a != b && !sim.contact_force(a, b).isZero())
+      if (a != b && !sim.mean_contact_force(a, b).isZero())
         contacts_ += fmt::format("{:.10g},{},{}{}\n", t, c.bodies[a].name, c.bodies[b].name,
-                                 join<D>(sim.contact_force(a, b)));
+                                 join<D>(sim.mean_contact_force(a, b)));
   for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
-    const InterfaceForce& F = sim.interface_forces()[f];
+    const InterfaceForce F = sim.mean_interface_force(f);
     interfaces_ +=
         fmt::format("{:.10g},{}-{},{:.10g},{:.10g},{:.10g}\n", t, c.bodies[c.interfaces[f].a].name,
                     c.bodies[c.interfaces[f].b].name, F.cohesive, F.frictional, F.normal);
