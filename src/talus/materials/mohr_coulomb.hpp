@@ -53,6 +53,18 @@ inline bool return_to_planes(double K, double G, const Plane* planes, int n, V3&
   return true;
 }
 
+// Plane strain (no out-of-plane shear): the principal stresses s1 >= s2 >= s3 alone, with no
+// trigonometry, for the elastic check that most calls end with.
+inline V3 principal_values_plane(const Voigt& sigma) {
+  const double c = 0.5 * (sigma[0] + sigma[1]), d = 0.5 * (sigma[0] - sigma[1]);
+  const double r = std::sqrt(d * d + sigma[3] * sigma[3]);
+  double a = c + r, b = c - r, z = sigma[2];
+  if (z > a) std::swap(z, a);
+  if (z > b) std::swap(z, b);
+  if (b > a) std::swap(a, b);
+  return V3(a, b, z);
+}
+
 // Principal stresses s1 >= s2 >= s3 and their directions (columns of R). Plane strain (no
 // out-of-plane shear) takes the closed form of the in-plane 2x2 block; otherwise Eigen's.
 inline void principal(const Voigt& sigma, V3& values, Mat3& R) {
@@ -84,14 +96,25 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
   using mc_detail::V3;
   double c, phi;
   mat.strength.current(eps_p, c, phi);
-  const double sp = std::sin(phi), cp = std::cos(phi), sd = std::sin(mat.strength.dilation_angle);
+  const double sp = std::sin(phi), cp = std::cos(phi);
+  const double t =
+      std::min(mat.strength.tension_cutoff, sp > 0.0 ? c * cp / sp : mat.strength.tension_cutoff);
+  // Inside the main plane (sextant s1 >= s2 >= s3) and below the cut-off.
+  auto inside = [&](const V3& s, double tol) {
+    return (1 + sp) * s[0] - (1 - sp) * s[2] - 2 * c * cp <= tol && s[0] <= t + tol;
+  };
+  auto tolerance = [&](const V3& s) { return 1e-12 * (std::abs(s[0]) + std::abs(s[2]) + c + 1.0); };
+  const bool plane_strain = sigma[4] == 0.0 && sigma[5] == 0.0;
+  if (plane_strain) { // the elastic check first, without the principal directions
+    const V3 v = mc_detail::principal_values_plane(sigma);
+    if (inside(v, tolerance(v))) return 0.0;
+  }
+  const double sd = std::sin(mat.strength.dilation_angle);
   const double K = mat.bulk_modulus(), G = mat.shear_modulus();
 
   V3 trial;
   Mat3 R;
   mc_detail::principal(sigma, trial, R);
-  const double t =
-      std::min(mat.strength.tension_cutoff, sp > 0.0 ? c * cp / sp : mat.strength.tension_cutoff);
 
   // Planes of the sextant s1 >= s2 >= s3: main (s1, s3), right edge partner (s2, s3), left edge
   // partner (s1, s2), and the tension cut-offs on s1 and s2.
@@ -101,10 +124,10 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
   const Plane cut1{V3(1, 0, 0), V3(1, 0, 0), t};
   const Plane cut2{V3(0, 1, 0), V3(0, 1, 0), t};
   auto admissible = [&](const V3& s) {
-    const double tol = 1e-12 * (std::abs(s[0]) + std::abs(s[2]) + c + 1.0);
-    return s[0] >= s[1] - tol && s[1] >= s[2] - tol && main.value(s) <= tol && s[0] <= t + tol;
+    const double tol = tolerance(s);
+    return s[0] >= s[1] - tol && s[1] >= s[2] - tol && inside(s, tol);
   };
-  if (admissible(trial)) return 0.0;
+  if (!plane_strain && admissible(trial)) return 0.0;
 
   // Try the active sets from the simplest; the first admissible result is the return.
   V3 s;

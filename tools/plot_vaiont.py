@@ -1,0 +1,155 @@
+#!/usr/bin/env python3
+"""The Vaiont figures of a run folder (docs/vaiont.md, issue #6):
+  frames.png            bodies and equivalent plastic strain at 10, 17.5, 22.5, 33.5 s (Figure 13)
+  probe_speed.png       the probes' speed against time (Figure 15)
+  speed_displacement.png the slide's mass-averaged speed against its centroid's displacement
+                        (Figure 16)
+  profile.png           the final ground surface against the pre-slide ground line
+  release_stress.png    vertical stress down a vertical line through the slide at release,
+                        against the weight of the particles above
+
+Usage: plot_vaiont.py RUN_DIR [--section cases/vaiont/section.csv] [--out DIR]
+"""
+import argparse
+import csv
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import meshio  # noqa: E402
+import numpy as np  # noqa: E402
+
+ap = argparse.ArgumentParser()
+ap.add_argument("run")
+ap.add_argument("--section", default=str(Path(__file__).parent.parent / "cases/vaiont/section.csv"))
+ap.add_argument("--out")
+ap.add_argument("--times", type=float, nargs="+", default=[10.0, 17.5, 22.5, 33.5])
+a = ap.parse_args()
+run = Path(a.run)
+out = Path(a.out) if a.out else run / "plots"
+out.mkdir(parents=True, exist_ok=True)
+frames = [(float(e.get("timestep")), e.get("file"))
+          for e in ET.parse(run / "particles.pvd").getroot().iter("DataSet")]
+section = {}
+with open(a.section) as f:
+    for r in csv.DictReader(f):
+        section.setdefault(r["line"], []).append((float(r["x"]), float(r["z"])))
+ground = np.array(section["ground_before"])
+colours = np.array(["#8c564b", "#9e9e9e", "#2ca02c", "#1f77b4", "#ff7f0e", "#9467bd"])
+
+
+def frame(t):
+    tf, f = min(frames, key=lambda fr: abs(fr[0] - t))
+    return tf, meshio.read(run / f)
+
+
+# Bodies and plastic strain at the paper's times.
+fig, axes = plt.subplots(2, len(a.times), figsize=(4.6 * len(a.times), 6.4), squeeze=False)
+for j, t in enumerate(a.times):
+    tf, m = frame(t)
+    x = m.points[:, :2]
+    body = m.point_data["body"].ravel().astype(int)
+    ax = axes[0][j]
+    ax.scatter(x[:, 0], x[:, 1], s=0.3, c=colours[body % len(colours)], linewidths=0)
+    ax.set_title(f"t = {tf:.1f} s: bodies")
+    ax = axes[1][j]
+    eps = m.point_data.get("plastic_strain", np.zeros(len(x))).ravel()
+    sc = ax.scatter(x[:, 0], x[:, 1], s=0.3, c=np.clip(eps, 0, 1), cmap="inferno_r", vmin=0,
+                    vmax=1, linewidths=0)
+    ax.set_title(f"t = {tf:.1f} s: plastic strain")
+    for ax in axes[:, j]:
+        ax.plot(ground[:, 0], ground[:, 1], "k--", lw=0.6)
+        ax.set_aspect("equal")
+fig.colorbar(sc, ax=axes[1].tolist(), shrink=0.8, label="equivalent plastic strain (clipped at 1)")
+fig.savefig(out / "frames.png", dpi=100)
+plt.close(fig)
+
+# Probe speeds.
+rows = list(csv.DictReader(open(run / "probes.csv")))
+fig, ax = plt.subplots(figsize=(6, 3.8))
+for name in dict.fromkeys(r["probe"] for r in rows):
+    sel = [r for r in rows if r["probe"] == name]
+    ax.plot([float(r["time"]) for r in sel], [float(r["speed"]) for r in sel], label=name)
+ax.set_xlabel("time after release (s)")
+ax.set_ylabel("speed (m/s)")
+ax.legend()
+ax.grid(alpha=0.3)
+fig.tight_layout()
+fig.savefig(out / "probe_speed.png", dpi=100)
+plt.close(fig)
+
+# Speed against displacement.
+rows = [r for r in csv.DictReader(open(run / "bodies.csv")) if r["body"] == "slide"]
+cx = np.array([float(r["centroid_x"]) for r in rows])
+cy = np.array([float(r["centroid_y"]) for r in rows])
+d = np.hypot(cx - cx[0], cy - cy[0])
+fig, ax = plt.subplots(figsize=(6, 3.8))
+ax.plot(d, [float(r["mean_speed"]) for r in rows])
+ax.set_xlabel("slide centroid displacement (m)")
+ax.set_ylabel("slide mass-averaged speed (m/s)")
+ax.grid(alpha=0.3)
+fig.tight_layout()
+fig.savefig(out / "speed_displacement.png", dpi=100)
+plt.close(fig)
+
+
+def surface(m, width):
+    x = m.points[:, :2]
+    bins = np.floor(x[:, 0] / width).astype(int)
+    top = {}
+    for b, y in zip(bins, x[:, 1]):
+        top[b] = max(top.get(b, -np.inf), y)
+    k = np.array(sorted(top))
+    return (k + 0.5) * width, np.array([top[i] for i in k])
+
+
+# Final ground surface.
+t0, m0 = frame(0.0)
+tf, mf = frame(frames[-1][0])
+spacing = np.sqrt(np.median(m0.point_data["volume"])) if "volume" in m0.point_data else 4.0
+fig, ax = plt.subplots(figsize=(9, 4))
+ax.plot(ground[:, 0], ground[:, 1], "k--", label="ground before the slide (section.csv)")
+xs, ys = surface(m0, 2 * spacing)
+ax.plot(xs, ys, color="#1f77b4", lw=0.8, label="surface at release")
+xs, ys = surface(mf, 2 * spacing)
+ax.plot(xs, ys, color="#d62728", label=f"surface at t = {tf:.1f} s")
+ax.set_xlabel("x (m)")
+ax.set_ylabel("elevation (m)")
+ax.set_aspect("equal")
+ax.legend(fontsize=8)
+fig.tight_layout()
+fig.savefig(out / "profile.png", dpi=100)
+plt.close(fig)
+
+# Vertical stress at release down a vertical line through the slide's centroid.
+x = m0.points[:, :2]
+body = m0.point_data["body"].ravel().astype(int)
+slide = body == list(dict.fromkeys(r["body"] for r in csv.DictReader(open(run / "bodies.csv")))).index("slide")
+xc = x[slide, 0][np.argmin(np.abs(x[slide, 0] - x[slide, 0].mean()))]  # a particle column
+col = np.abs(x[:, 0] - xc) < 0.5 * spacing
+order = np.argsort(-x[col, 1])
+y = x[col, 1][order]
+syy = m0.point_data["stress"][col, 1][order]
+mass = m0.point_data["mass"].ravel()[col][order] if "mass" in m0.point_data else None
+fig, ax = plt.subplots(figsize=(5, 5))
+for b in np.unique(body[col]):
+    sel = body[col][order] == b
+    ax.plot(-syy[sel] / 1e6, y[sel], ".", ms=3, color=colours[b % len(colours)])
+if mass is not None:
+    width = spacing  # one column of particles, one spacing wide
+    overburden = np.cumsum(mass) * 9.81 / width - 0.5 * mass * 9.81 / width
+    ax.plot(overburden / 1e6, y, "k-", lw=1, label="weight of the particles above")
+    ax.legend(fontsize=8)
+ax.set_xlabel("-sigma_yy (MPa)")
+ax.set_ylabel("elevation (m)")
+ax.set_title(f"at release, x = {xc:.0f} m")
+ax.grid(alpha=0.3)
+fig.tight_layout()
+fig.savefig(out / "release_stress.png", dpi=100)
+plt.close(fig)
+print("wrote", ", ".join(str(out / n) for n in ["frames.png", "probe_speed.png",
+                                                 "speed_displacement.png", "profile.png",
+                                                 "release_stress.png"]))
