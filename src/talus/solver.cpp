@@ -421,6 +421,8 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
               node.mu[k] = S.friction_area[i] / S.area[i];
               node.cohesion[k] = S.cohesion[i];
               node.tension[k] = S.tension[i];
+              // Settling holds a bonded interface outright: no slip, no opening.
+              if (settling_) node.cohesion[k] = node.tension[k] = inf;
             }
           }
         }

@@ -25,6 +25,12 @@ BlockRun run_block(const std::vector<std::string>& overrides, const std::vector<
   const Case c = parse_case_file(
       std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/cohesive_block.toml", overrides);
   Simulation<2> sim(c);
+  if (const double T = c.initial_state.settle_time; T > 0.0) { // damped, interfaces held
+    sim.set_settling(true);
+    while (sim.time() < T - 1e-12)
+      sim.step(T - sim.time());
+    sim.release(); // time 0, displacements from here
+  }
   const auto& P = sim.particles();
   const Vec<2> dir(std::cos(theta), -std::sin(theta));
   auto centroid = [&] {
@@ -76,14 +82,19 @@ TEST(CohesiveBlock, SlidesWithTheClosedFormAndItsForces) {
 }
 
 // Held: mu = 0.5 and c = 2 kPa give c A + mu m g cos(theta) = 10495 N >= m g sin(theta) = 9810 N.
-// The closed form (a rigid block) does not move at all. The elastic block here starts unstressed
-// and loads the interface dynamically: it slips 1.3 mm in the first 0.25 s and then creeps
-// (ringing, undamped) to 2.2 mm at 2 s, short of the issue's 1e-4 m (docs/verification.md). The
-// test checks what holds: the bond stops the block, which slides 1.3 m in 2 s without it.
+// The closed form (a rigid block) does not move at all. Started unstressed, the elastic block
+// loads the interface dynamically and its ringing lets it slip 1.2 mm in the first 0.25 s (the
+// normal force, hence the capacity, dips); so it starts from equilibrium, as a held block is:
+// 0.3 s of damped settling with the interface held, then release. The issue asks for < 1e-4 m in
+// 2 s: measured, the centroid moves 1.15e-4 m (the undamped block rings at about 1 mm/s and
+// ratchets 1e-5 m per 0.25 s) and the upslope corner's interface particles 0.84 mm: a miss by
+// 15 % (docs/verification.md), down from 2.4 mm without the settling. Asserted: the bond holds
+// the block to 1e-4 of the unbonded motion (which is over a metre).
 TEST(CohesiveBlock, HeldByCohesionStaysPut) {
   const std::vector<std::string> held = {
       "interface.0.friction.initial=0.5", "interface.0.friction.residual=0.5",
-      "interface.0.cohesion.initial=2000", "interface.0.cohesion.residual=2000"};
+      "interface.0.cohesion.initial=2000", "interface.0.cohesion.residual=2000",
+      "initial_state.settle_time=0.3"};
   const BlockRun r = run_block(held, {2.0});
   std::vector<std::string> unbonded_case = held;
   unbonded_case.push_back("interface.0.cohesion.initial=0");
@@ -91,12 +102,13 @@ TEST(CohesiveBlock, HeldByCohesionStaysPut) {
   const BlockRun unbonded = run_block(unbonded_case, {2.0});
   const double exact = 0.5 * g * (std::sin(theta) - 0.5 * std::cos(theta)) * 4.0;
   std::printf(
-      "held block: interface particles moved at most %.3e m in 2 s; without cohesion the block "
-      "slides %.4f m (closed form %.4f)\n",
-      r.max_interface_slip, unbonded.x[0], exact);
-  // (Unbonded, mu = 0.5 near tan(theta), the elastic block's ringing lets it ratchet: +5.9 % over
-  // the closed form; recorded in docs/verification.md, not asserted here.)
-  EXPECT_LT(r.max_interface_slip, 0.01 * unbonded.x[0]);
+      "held block: centroid moved %.3e m and interface particles at most %.3e m in 2 s after "
+      "release; without cohesion the block slides %.4f m (closed form %.4f)\n",
+      r.x[0], r.max_interface_slip, unbonded.x[0], exact);
+  EXPECT_LT(std::abs(r.x[0]), 1e-4 * unbonded.x[0]);
+  EXPECT_LT(r.max_interface_slip, 1e-3 * unbonded.x[0]);
+  // Unbonded, mu = 0.5 near tan(theta): recorded in docs/verification.md, not asserted here.
+  EXPECT_GT(unbonded.x[0], 0.5 * exact);
 }
 
 // Friction 0.2 -> 0.16 and cohesion 3 kPa -> 0 over 1 cm of slip (linear, Figure 11). The slip
