@@ -79,6 +79,25 @@ private:
   std::int64_t last_steps_ = -1;
 };
 
+// Where the potential energy a body released went (since release): J, per metre in 2D.
+template <int D>
+nlohmann::json energy_budget(const Simulation<D>& sim, int b) {
+  const auto& P = sim.particles();
+  double ke = 0.0;
+  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
+    ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
+  const double gravity = sim.gravity_work(b), contact = sim.contact_work(b);
+  const double internal = sim.internal_work(b);
+  const double elastic = sim.strain_energy(b) - sim.strain_energy_at_release(b);
+  return {{"gravity_work_J", gravity},
+          {"kinetic_J", ke},
+          {"contact_work_J", contact},
+          {"stress_work_J", internal},
+          {"elastic_change_J", elastic},
+          {"plastic_work_J", internal - elastic},
+          {"unbalanced_J", gravity + contact - internal - ke}};
+}
+
 // The headline figures of a run (ResultsSpec), tracked every step.
 template <int D>
 class ResultsMonitor {
@@ -127,6 +146,7 @@ public:
     j["runout_duration_s"] = stopped ? nlohmann::json(last_moving_) : nlohmann::json(nullptr);
     j["still_moving_at_end"] = !stopped;
     j["centroid_displacement_x_m"] = centroid(sim)[0] - centroid0_[0];
+    j["energy"] = energy_budget(sim, body_);
     return j;
   }
 

@@ -82,6 +82,8 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   contact_law_.gap_cutoff = c.contact.gap_cutoff;
   contact_law_.cell_size = c.grid.cell_size;
   contact_force_.assign(B * B, Vec<D>::Zero());
+  contact_work_.assign(B, 0.0);
+  internal_work_.assign(B, 0.0);
   contact_impulse_.assign(B * B, Vec<D>::Zero());
   conditions_ = build_grid_conditions<D>(c, grid_);
   for (int d = 0; d < D; ++d)
@@ -374,6 +376,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
   const std::int64_t rows = hi[0] - lo[0];
   if (record) {
     contact_rows_.assign(rows * B * B, Vec<D>::Zero());
+    contact_work_rows_.assign(rows * B, 0.0);
     interface_rows_.assign(rows * interface_force_.size(), InterfaceForce{});
   }
 #pragma omp parallel for schedule(dynamic, 4)
@@ -438,6 +441,11 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
               if (j != k && node.m[j] > node.m[other]) other = j;
             contact_rows_[(r * B + node.body[k]) * B + node.body[other]] +=
                 node.m[k] * (node.v[k] - before[k]) / dt;
+            // The contact's work on the body over the step: its impulse times the node's mean
+            // velocity over the step, (v^n + v^{n+1}) / 2, the velocity the particles move with.
+            const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
+            contact_work_rows_[r * B + node.body[k]] +=
+                node.m[k] * (node.v[k] - before[k]).dot(0.5 * (v_start + node.v[k]));
             // Slip rate: the tangential relative velocity after contact (eq. 38-39, as slip).
             const Vec<D> rel = node.v[k] - node.v[other];
             const Vec<D>& nrm = node.normal[k];
@@ -462,6 +470,9 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
     for (std::int64_t r = 0; r < rows; ++r)
       for (int k = 0; k < B * B; ++k)
         contact_force_[k] += contact_rows_[r * B * B + k];
+    for (std::int64_t r = 0; r < rows; ++r)
+      for (int b = 0; b < B; ++b)
+        contact_work_[b] += contact_work_rows_[r * B + b];
     const std::size_t F = interface_force_.size();
     for (std::size_t f = 0; f < F; ++f) {
       interface_force_[f] = InterfaceForce{};
@@ -502,46 +513,64 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
   const double lp = body_lp_[b];
   const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
   std::atomic<std::size_t> bad{P.size()};
+  // Particles go in fixed chunks so that the stress work sums in an order that does not depend
+  // on the thread count (chunk sums, then the chunks in order).
+  const std::int64_t chunks = (end - begin + work_chunk - 1) / work_chunk;
+  if (static_cast<std::int64_t>(chunk_work_.size()) < chunks) chunk_work_.resize(chunks);
 #pragma omp parallel for schedule(static)
-  for (std::int64_t p = begin; p < end; ++p) {
-    if (rigid) { // prescribed motion; no stress
-      if (what.velocity) P.v[p] = rigid_velocity_[b];
-      if (what.move) P.x[p] += dt * rigid_velocity_[b];
-      continue;
-    }
-    const ShapeWeights<D> sw = evaluate_shape(N.box, kind, lp, P.x[p]);
-    Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
-    Mat<D> L = Mat<D>::Zero();
-    for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
-      if (what.velocity || what.move) {
-        v_old += N_I * N.v[I];
-        v_new += N_I * N.v_new[I];
+  for (std::int64_t c = 0; c < chunks; ++c) {
+    double work = 0.0;
+    for (std::int64_t p = begin + c * work_chunk; p < std::min(end, begin + (c + 1) * work_chunk);
+         ++p) {
+      if (rigid) { // prescribed motion; no stress
+        if (what.velocity) P.v[p] = rigid_velocity_[b];
+        if (what.move) P.x[p] += dt * rigid_velocity_[b];
+        continue;
       }
-      if (what.strain_rate) L += (N.*what.strain_rate)[I] * dN_I.transpose();
-    });
-    if (what.velocity) P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
-    if (what.velocity && P.iface[p] >= 0 &&
-        !settling_) { // slip back to the interface particle; degrade
-      double rate = 0.0;
-      for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
-        rate += N_I * N.slip_rate[I];
+      const ShapeWeights<D> sw = evaluate_shape(N.box, kind, lp, P.x[p]);
+      Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
+      Mat<D> L = Mat<D>::Zero();
+      for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
+        if (what.velocity || what.move) {
+          v_old += N_I * N.v[I];
+          v_new += N_I * N.v_new[I];
+        }
+        if (what.strain_rate) L += (N.*what.strain_rate)[I] * dN_I.transpose();
       });
-      const InterfaceSpec& spec = case_data_.interfaces[P.iface[p]];
-      P.slip[p] += rate * dt;
-      P.cohesion[p] = spec.cohesion.at(P.slip[p], spec.curve);
-      P.friction[p] = spec.friction.at(P.slip[p], spec.curve);
+      if (what.velocity) P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
+      if (what.velocity && P.iface[p] >= 0 &&
+          !settling_) { // slip back to the interface particle; degrade
+        double rate = 0.0;
+        for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+          rate += N_I * N.slip_rate[I];
+        });
+        const InterfaceSpec& spec = case_data_.interfaces[P.iface[p]];
+        P.slip[p] += rate * dt;
+        P.cohesion[p] = spec.cohesion.at(P.slip[p], spec.curve);
+        P.friction[p] = spec.friction.at(P.slip[p], spec.curve);
+      }
+      if (what.move) P.x[p] += 0.5 * dt * (v_old + v_new);
+      if (model) {
+        P.F[p] = (Mat<D>::Identity() + L * dt) * P.F[p];
+        const double J = P.F[p].determinant();
+        if (!(J > 0.0)) record_bad(bad, static_cast<std::size_t>(p));
+        const double vol_old = P.vol[p];
+        P.vol[p] = P.vol0[p] * J;
+        const Mat3 L3 = embed<D>(L);
+        const Mat3 D3 = 0.5 * (L3 + L3.transpose());
+        const Voigt sigma_old = P.stress[p];
+        update_stress(*model, P.stress[p], P.eps_p[p], D3, 0.5 * (L3 - L3.transpose()), dt);
+        // Stress work over the step, midpoint rule: (V sigma) : D dt.
+        const Voigt s = 0.5 * (vol_old * sigma_old + P.vol[p] * P.stress[p]);
+        work += dt * (s[0] * D3(0, 0) + s[1] * D3(1, 1) + s[2] * D3(2, 2) +
+                      2.0 * (s[3] * D3(0, 1) + s[4] * D3(1, 2) + s[5] * D3(0, 2)));
+      }
     }
-    if (what.move) P.x[p] += 0.5 * dt * (v_old + v_new);
-    if (model) {
-      P.F[p] = (Mat<D>::Identity() + L * dt) * P.F[p];
-      const double J = P.F[p].determinant();
-      if (!(J > 0.0)) record_bad(bad, static_cast<std::size_t>(p));
-      P.vol[p] = P.vol0[p] * J;
-      const Mat3 L3 = embed<D>(L);
-      update_stress(*model, P.stress[p], P.eps_p[p], 0.5 * (L3 + L3.transpose()),
-                    0.5 * (L3 - L3.transpose()), dt);
-    }
+    chunk_work_[c] = work;
   }
+  if (model && !rigid)
+    for (std::int64_t c = 0; c < chunks; ++c)
+      internal_work_[b] += chunk_work_[c];
   if (const std::size_t p = bad.load(); p != P.size())
     throw SimulationError(fmt::format(
         "step {}, time {:.6g} s: body '{}', particle {} (id {}) at ({}): det F = {:.3g} <= 0 "
@@ -626,6 +655,36 @@ void Simulation<D>::release() {
   time_ = 0.0;
   reset_force_means();
   particles_.x0 = particles_.x;
+  std::fill(contact_work_.begin(), contact_work_.end(), 0.0);
+  std::fill(internal_work_.begin(), internal_work_.end(), 0.0);
+  strain_energy0_.clear();
+  for (int b = 0; b < num_bodies(); ++b)
+    strain_energy0_.push_back(strain_energy(b));
+}
+
+template <int D>
+double Simulation<D>::gravity_work(int b) const {
+  const auto& P = particles_;
+  double w = 0.0;
+  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
+    w += P.m[p] * gravity_.dot(P.x[p] - P.x0[p]);
+  return w;
+}
+
+template <int D>
+double Simulation<D>::strain_energy(int b) const {
+  const auto& P = particles_;
+  if (case_data_.bodies[b].rigid) return 0.0;
+  const double K =
+      std::visit([](const auto& m) { return m.bulk_modulus(); }, body_material_[b].model);
+  const double G =
+      std::visit([](const auto& m) { return m.shear_modulus(); }, body_material_[b].model);
+  double u = 0.0;
+  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
+    const double mean = mean_stress(P.stress[p]);
+    u += P.vol[p] * (0.5 * mean * mean / K + 0.5 * second_invariant(deviator(P.stress[p])) / G);
+  }
+  return u;
 }
 
 template <int D>

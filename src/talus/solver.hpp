@@ -68,6 +68,19 @@ public:
   }
   void reset_force_means();
 
+  // Energy budget of body b since release (or the start), J (per unit thickness in 2D): the work
+  // of gravity, of the contact and interface forces (the kinetic energy they add at the nodes;
+  // negative when they brake), of the stresses (integral of sigma : D dV dt, the elastic energy
+  // stored plus the plastic work) and the elastic energy held now. With the kinetic energy, what
+  // does not balance is the scheme's own dissipation and the work of the grid conditions.
+  double gravity_work(int b) const;
+  double contact_work(int b) const { return contact_work_[b]; }
+  double internal_work(int b) const { return internal_work_[b]; }
+  double strain_energy(int b) const;
+  double strain_energy_at_release(int b) const {
+    return strain_energy0_.empty() ? 0.0 : strain_energy0_[b];
+  }
+
   // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -99,6 +112,7 @@ public:
     ar.io(time_), ar.io(dt_), ar.io(dt_reference_), ar.io(steps_), ar.io(settling_);
     ar.io(index_of_id_), ar.io(contact_force_), ar.io(interface_force_);
     ar.io(contact_impulse_), ar.io(interface_impulse_), ar.io(impulse_time_);
+    ar.io(contact_work_), ar.io(internal_work_), ar.io(strain_energy0_);
   }
 
   // Initial conditions that a case file cannot express (tests set a velocity field here).
@@ -163,6 +177,10 @@ private:
   std::vector<InterfaceForce> interface_force_; // per interface, last step
   std::vector<InterfaceForce> interface_rows_;  // per grid row x interface
   std::vector<Vec<D>> contact_rows_;            // per grid row x B x B, summed in row order
+  std::vector<double> contact_work_rows_;       // per grid row x B
+  std::vector<double> contact_work_, internal_work_, strain_energy0_; // per body, since release
+  static constexpr std::int64_t work_chunk = 4096; // particles per chunk of the stress work sum
+  std::vector<double> chunk_work_;
 
   double time_ = 0.0;
   double dt_ = 0.0;

@@ -29,7 +29,7 @@ MohrCoulomb mc(MohrCoulombStrength s) {
 }
 
 double dp_yield(const DruckerPrager& m, const Voigt& s) {
-  double a, k;
+  double a = 0.0, k = 0.0;
   m.match_coefficients(m.strength.friction_angle, m.strength.cohesion, a, k);
   return std::sqrt(second_invariant(deviator(s))) + a * trace(s) - k;
 }
@@ -88,7 +88,7 @@ TEST(DruckerPrager, TriaxialCompressionReachesThePeakOfEachMatching) {
   for (auto match :
        {DruckerPragerMatch::inner, DruckerPragerMatch::outer, DruckerPragerMatch::plane_strain}) {
     const auto m = dp(match, strength(phi, c));
-    double a, k;
+    double a = 0.0, k = 0.0;
     m.match_coefficients(phi * deg, c, a, k);
     const Voigt s = drive(m, isotropic(p), triaxial_compression(1e-5), 400);
     const Eigen::Vector3d pr = principal(s);
@@ -96,7 +96,7 @@ TEST(DruckerPrager, TriaxialCompressionReachesThePeakOfEachMatching) {
     EXPECT_NEAR(mean_stress(s), p, 1e-8 * std::abs(p)); // zero dilation: p stays
   }
   // The outer cone touches Mohr-Coulomb on the compression meridian.
-  double a, k;
+  double a = 0.0, k = 0.0;
   dp(DruckerPragerMatch::outer, strength(phi, c)).match_coefficients(phi * deg, c, a, k);
   const double mc_peak =
       (2 * c * std::cos(phi * deg) - 2 * p * std::sin(phi * deg)) / (1 - std::sin(phi * deg) / 3);
@@ -155,7 +155,7 @@ TEST(MohrCoulomb, UniaxialTensionStopsAtTheCutoff) {
 TEST(DruckerPrager, ReturnsToTheApex) {
   const double phi = 25, c = 10e3;
   const auto m = dp(DruckerPragerMatch::inner, strength(phi, c));
-  double a, k;
+  double a = 0.0, k = 0.0;
   m.match_coefficients(phi * deg, c, a, k);
   Voigt s = isotropic(1e6);
   s[3] = 1e3;

@@ -57,6 +57,46 @@ TEST(SlidingBlock, RigidPlaneWithinHalfAPercent) {
   }
 }
 
+// The energy budget (Simulation::gravity_work, contact_work, internal_work) of a block sliding
+// with friction: gravity does m g sin(theta) x, friction takes mu m g cos(theta) x, the rest is
+// the block's kinetic energy, and a stiff elastic block stores next to nothing.
+TEST(SlidingBlock, EnergyBudgetMatchesFrictionWork) {
+  const double theta = std::numbers::pi / 6.0, mu = 0.174, t = 1.0;
+  for (const char* plane : {"sliding_block.toml", "sliding_block_deformable.toml"}) {
+    std::vector<std::string> set = {fmt::format("contact.0.friction={}", mu)};
+    if (std::string(plane) == "sliding_block_deformable.toml")
+      set.push_back("body.plane.geometric_normal=true");
+    const Case c =
+        parse_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/" + plane, set);
+    Simulation<2> sim(c);
+    const auto& P = sim.particles();
+    while (sim.time() < t - 1e-12)
+      sim.step(t - sim.time());
+    double m = 0.0, ke = 0.0;
+    Vec<2> u = Vec<2>::Zero();
+    for (std::size_t p = P.body_begin[0]; p < P.body_begin[1]; ++p)
+      m += P.m[p], ke += 0.5 * P.m[p] * P.v[p].squaredNorm(), u += P.m[p] * (P.x[p] - P.x0[p]);
+    const double x = (u / m).dot(Vec<2>(std::cos(theta), -std::sin(theta)));
+    // Along the plane gravity does m g sin(theta) x; across it (the block settling into a
+    // deformable plane) it does work that the contact's normal force takes back.
+    const double gravity = m * Vec<2>(0.0, -g).dot(u / m);
+    const double across = gravity - m * g * std::sin(theta) * x;
+    const double friction = -mu * m * g * std::cos(theta) * x;
+    std::printf("energy, %s: gravity %.1f J (m g.u %.1f, %.1f of it across the plane), contact "
+                "%.1f J (-mu m g cos x - across: %.1f), stress work %.2f J, kinetic %.1f J "
+                "(0.5 m v^2 of the closed form %.1f)\n",
+                plane, sim.gravity_work(0), gravity, across, sim.contact_work(0), friction - across,
+                sim.internal_work(0), ke,
+                0.5 * m * std::pow(g * (std::sin(theta) - mu * std::cos(theta)) * t, 2));
+    EXPECT_NEAR(sim.gravity_work(0), gravity, 1e-9 * gravity);
+    EXPECT_LT(std::abs(across), 0.005 * gravity);
+    EXPECT_NEAR(sim.contact_work(0), friction - across, 0.005 * std::abs(friction));
+    EXPECT_LT(std::abs(sim.internal_work(0)), 2e-3 * gravity);
+    const double unbalanced = sim.gravity_work(0) + sim.contact_work(0) - sim.internal_work(0) - ke;
+    EXPECT_LT(std::abs(unbalanced), 0.01 * gravity);
+  }
+}
+
 // A cylinder rolls without slipping (x = g t^2 sin(theta) / 3) when tan(theta) <= 3 mu, and
 // otherwise slips (x = g t^2 (sin(theta) - mu cos(theta)) / 2). Within 2 % at t = 1 s.
 // The paper's fourth trial (60 degrees, mu = 0.6, right at the limit tan(theta) = 1.73 vs 3 mu =

@@ -39,7 +39,7 @@ struct DruckerPrager : IsotropicElastic {
 inline double return_to_drucker_prager(const DruckerPrager& mat, Voigt& sigma, double eps_p) {
   double c, phi;
   mat.strength.current(eps_p, c, phi);
-  double alpha, k, alpha_psi, k_psi;
+  double alpha = 0.0, k = 0.0, alpha_psi = 0.0, k_psi = 0.0;
   mat.match_coefficients(phi, c, alpha, k);
   mat.match_coefficients(mat.strength.dilation_angle, 0.0, alpha_psi, k_psi);
   const double K = mat.bulk_modulus(), G = mat.shear_modulus();

@@ -39,7 +39,8 @@ RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::m
   probe_ids_ = sim.probe_ids();
   energy_ = "time,step,dt,kinetic_energy" + components<D>("momentum_") + "\n";
   bodies_ = "time,body,mass" + components<D>("centroid_") + components<D>("velocity_") +
-            ",mean_speed,max_speed,kinetic_energy\n";
+            ",mean_speed,max_speed,kinetic_energy,gravity_work,contact_work,internal_work,"
+            "strain_energy\n";
   contacts_ = "time,body,other" + components<D>("force_") + "\n";
   interfaces_ = "time,interface,cohesive_force,frictional_force,normal_force\n";
   probes_ = "time,probe" + components<D>("") + components<D>("velocity_") + ",speed,displacement\n";
@@ -66,9 +67,11 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
     }
     ke_total += ke;
     mom_total += mv;
-    bodies_ +=
-        fmt::format("{:.10g},{},{:.10g}{}{},{:.10g},{:.10g},{:.10g}\n", t, c.bodies[b].name, mass,
-                    join<D>(mx / mass), join<D>(mv / mass), speed_sum / mass, max_speed, ke);
+    bodies_ += fmt::format("{:.10g},{},{:.10g}{}{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
+                           "{:.10g}\n",
+                           t, c.bodies[b].name, mass, join<D>(mx / mass), join<D>(mv / mass),
+                           speed_sum / mass, max_speed, ke, sim.gravity_work(b),
+                           sim.contact_work(b), sim.internal_work(b), sim.strain_energy(b));
   }
   energy_ += fmt::format("{:.10g},{},{:.10g},{:.10g}{}\n", t, sim.steps(), sim.last_dt(), ke_total,
                          join<D>(mom_total));
