@@ -371,12 +371,17 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
   if (record) {
     std::fill(contact_force_.begin(), contact_force_.end(), Vec<D>::Zero());
     std::fill(interface_force_.begin(), interface_force_.end(), InterfaceForce{});
+    for (auto& row : contact_node_rows_)
+      row.clear(); // keeps the capacity: no allocation once warmed up
   }
   if (!any) return;
   const std::int64_t rows = hi[0] - lo[0];
   if (record) {
     contact_rows_.assign(rows * B * B, Vec<D>::Zero());
     contact_work_rows_.assign(rows * B, 0.0);
+    if (case_data_.output.contact_nodes &&
+        static_cast<std::int64_t>(contact_node_rows_.size()) < rows)
+      contact_node_rows_.resize(rows);
     interface_rows_.assign(rows * interface_force_.size(), InterfaceForce{});
   }
 #pragma omp parallel for schedule(dynamic, 4)
@@ -446,6 +451,11 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
             const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
             contact_work_rows_[r * B + node.body[k]] +=
                 node.m[k] * (node.v[k] - before[k]).dot(0.5 * (v_start + node.v[k]));
+            if (case_data_.output.contact_nodes && node.v[k] != before[k])
+              contact_node_rows_[r].push_back(
+                  {grid_.node_position(g), node.body[k], node.body[other],
+                   Vec<D>(node.m[k] * (node.v[k] - before[k]) / dt), node.normal[k],
+                   node.friction_impulse[k] / dt, node.cohesion_impulse[k] / dt});
             // Slip rate: the tangential relative velocity after contact (eq. 38-39, as slip).
             const Vec<D> rel = node.v[k] - node.v[other];
             const Vec<D>& nrm = node.normal[k];
@@ -640,6 +650,14 @@ void Simulation<D>::step(double dt_limit) {
   impulse_time_ += dt_;
   time_ += dt_;
   ++steps_;
+}
+
+template <int D>
+std::vector<ContactNodeForce<D>> Simulation<D>::contact_nodes() const {
+  std::vector<ContactNodeForce<D>> all;
+  for (const auto& row : contact_node_rows_)
+    all.insert(all.end(), row.begin(), row.end());
+  return all;
 }
 
 template <int D>

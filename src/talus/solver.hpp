@@ -29,6 +29,16 @@ struct InterfaceForce {
   double cohesive = 0, frictional = 0, normal = 0;
 };
 
+// The contact force on one body at one node in the last step (output.contact_nodes).
+template <int D>
+struct ContactNodeForce {
+  Vec<D> position = Vec<D>::Zero();    // the node
+  int body = 0, other = 0;             // the corrected body, and the heaviest other body there
+  Vec<D> force = Vec<D>::Zero();       // m (v_after - v_before) / dt on `body`
+  Vec<D> normal = Vec<D>::Zero();      // outward from `body`
+  double frictional = 0, cohesive = 0; // tangential resistance used (N)
+};
+
 // Wall time spent in each phase of the step, for the benchmark.
 struct PhaseTimes {
   double p2g = 0, grid = 0, contact = 0, g2p = 0, stress = 0, other = 0;
@@ -67,6 +77,10 @@ public:
     return {I.cohesive / impulse_time_, I.frictional / impulse_time_, I.normal / impulse_time_};
   }
   void reset_force_means();
+
+  // The last step's contact force at every node where contact corrected a body, in node order
+  // (recorded only when the case's output.contact_nodes is on).
+  std::vector<ContactNodeForce<D>> contact_nodes() const;
 
   // Energy budget of body b since release (or the start), J (per unit thickness in 2D): the work
   // of gravity, of the contact and interface forces (the kinetic energy they add at the nodes;
@@ -178,6 +192,7 @@ private:
   std::vector<InterfaceForce> interface_rows_;  // per grid row x interface
   std::vector<Vec<D>> contact_rows_;            // per grid row x B x B, summed in row order
   std::vector<double> contact_work_rows_;       // per grid row x B
+  std::vector<std::vector<ContactNodeForce<D>>> contact_node_rows_;   // per grid row
   std::vector<double> contact_work_, internal_work_, strain_energy0_; // per body, since release
   static constexpr std::int64_t work_chunk = 4096; // particles per chunk of the stress work sum
   std::vector<double> chunk_work_;

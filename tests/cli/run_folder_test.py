@@ -55,4 +55,22 @@ order0 = np.argsort(first.point_data["id"].ravel())
 order1 = np.argsort(last.point_data["id"].ravel())
 disp = last.points[order1] - first.points[order0]
 assert np.allclose(disp, last.point_data["displacement"][order1], atol=1e-12)
+# The nodal contact forces (output.contact_nodes): a series beside the particles'. The sliding
+# block rests on its plane, so the forces on it hold about the weight's normal part.
+cout = out + "_contact"
+shutil.rmtree(cout, ignore_errors=True)
+subprocess.run([talus, "run", os.path.join(source, "cases/benchmarks/sliding_block.toml"), "--out",
+                cout, "--set", "simulation.end_time=0.1", "--set", "output.every=0.05", "--set",
+                "output.contact_nodes=true"], check=True, stdout=subprocess.DEVNULL)
+cframes = ET.parse(os.path.join(cout, "contact_nodes.pvd")).getroot().findall(".//DataSet")
+assert [float(f.get("timestep")) for f in cframes] == [0.0, 0.05, 0.1], cframes
+nodes = meshio.read(os.path.join(cout, cframes[-1].get("file")))
+for field in ["body", "other", "force", "normal", "frictional_force", "cohesive_force"]:
+    assert field in nodes.point_data, field
+on_block = nodes.point_data["body"].ravel() == 0
+assert on_block.sum() > 3, on_block.sum()
+normal = -(nodes.point_data["force"] * nodes.point_data["normal"]).sum(axis=1)[on_block].sum()
+mass = float(next(csv.DictReader(open(os.path.join(cout, "bodies.csv"))))["mass"])
+assert 0.7 < normal / (mass * 9.81 * np.cos(np.pi / 6)) < 1.3, normal
+
 print(f"run folder ok: {n} particles, {len(frames)} frames read by meshio {meshio.__version__}")

@@ -97,6 +97,50 @@ TEST(SlidingBlock, EnergyBudgetMatchesFrictionWork) {
   }
 }
 
+// The per-node contact forces (output.contact_nodes) of the sliding block add up to the pair's
+// total, and their normal and frictional parts to m g cos(theta) and mu m g cos(theta).
+TEST(SlidingBlock, ContactNodeForcesAddUpToThePairTotal) {
+  const double theta = std::numbers::pi / 6.0, mu = 0.174;
+  const Case c =
+      parse_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/sliding_block.toml",
+                      {fmt::format("contact.0.friction={}", mu), "output.contact_nodes=true"});
+  Simulation<2> sim(c);
+  // The block rings on the plane, so the normal force is compared as a time mean over 0.4 s.
+  double normal_impulse = 0.0, duration = 0.0;
+  std::vector<ContactNodeForce<2>> nodes;
+  Vec<2> total = Vec<2>::Zero();
+  double normal = 0.0, frictional = 0.0;
+  while (sim.time() < 0.5 - 1e-12) {
+    sim.step(0.5 - sim.time());
+    nodes = sim.contact_nodes();
+    total.setZero();
+    normal = frictional = 0.0;
+    for (const auto& n : nodes) {
+      ASSERT_EQ(n.body, 0); // the rigid plane is never corrected
+      EXPECT_EQ(n.other, 1);
+      total += n.force;
+      normal += -n.force.dot(n.normal);
+      frictional += n.frictional;
+    }
+    if (sim.time() > 0.1) normal_impulse += normal * sim.last_dt(), duration += sim.last_dt();
+  }
+  const auto& P = sim.particles();
+  double m = 0.0;
+  for (std::size_t p = P.body_begin[0]; p < P.body_begin[1]; ++p)
+    m += P.m[p];
+  std::printf("contact nodes: %zu, total force (%.2f, %.2f) N against the pair's (%.2f, %.2f); "
+              "normal %.1f N, mean over 0.1-0.5 s %.1f N (m g cos %.1f), frictional %.1f N (mu N "
+              "%.1f)\n",
+              nodes.size(), total[0], total[1], sim.contact_force(0, 1)[0],
+              sim.contact_force(0, 1)[1], normal, normal_impulse / duration,
+              m * g * std::cos(theta), frictional, mu * normal);
+  EXPECT_GT(nodes.size(), 5u);
+  EXPECT_NEAR(total[0], sim.contact_force(0, 1)[0], 1e-9 * normal);
+  EXPECT_NEAR(total[1], sim.contact_force(0, 1)[1], 1e-9 * normal);
+  EXPECT_NEAR(normal_impulse / duration, m * g * std::cos(theta), 0.01 * m * g);
+  EXPECT_NEAR(frictional, mu * normal, 1e-6 * normal);
+}
+
 // A cylinder rolls without slipping (x = g t^2 sin(theta) / 3) when tan(theta) <= 3 mu, and
 // otherwise slips (x = g t^2 (sin(theta) - mu cos(theta)) / 2). Within 2 % at t = 1 s.
 // The paper's fourth trial (60 degrees, mu = 0.6, right at the limit tan(theta) = 1.73 vs 3 mu =

@@ -139,6 +139,8 @@ struct OutputSettings {
   double every = 0.0;              // simulated seconds between frames and CSV rows (0: end only)
   bool particles = true;           // write particles_NNNNNN.vtu
   std::vector<std::string> fields; // extra VTU fields; empty: all
+  bool contact_nodes = false;      // write contact_nodes_NNNNNN.vtu: the last step's contact
+                                   // force at every node where a body was corrected
 };
 
 // How the stress starts. "none": stress-free. "k0": the overburden of each grid column,

@@ -852,6 +852,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
     c.output.every = ro.number("every", 0.0);
     require(ro, "every", c.output.every >= 0.0, "must be >= 0 s");
     c.output.particles = ro.boolean("particles", true);
+    c.output.contact_nodes = ro.boolean("contact_nodes", false);
     if (const toml::array* f = ro.array("fields")) {
       const std::vector<std::string> known = {"velocity", "stress",   "displacement",
                                               "mass",     "volume",   "plastic_strain",

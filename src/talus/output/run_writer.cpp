@@ -27,6 +27,31 @@ std::string join(const Vec<D>& v) {
   return s;
 }
 
+// One vertex per (node, corrected body): the body and the other body there, the force on the
+// body (N; per metre in 2D), its outward normal, and the frictional and cohesive resistance used.
+template <int D>
+std::string contact_nodes_to_vtu(const std::vector<ContactNodeForce<D>>& nodes) {
+  const std::size_t n = nodes.size();
+  std::vector<double> xyz(3 * n, 0.0);
+  VtuArray body{"body", 1, {}, {}}, other{"other", 1, {}, {}};
+  VtuArray force{"force", 3, std::vector<double>(3 * n, 0.0), {}};
+  VtuArray normal{"normal", 3, std::vector<double>(3 * n, 0.0), {}};
+  VtuArray frictional{"frictional_force", 1, {}, {}}, cohesive{"cohesive_force", 1, {}, {}};
+  for (std::size_t i = 0; i < n; ++i) {
+    const ContactNodeForce<D>& c = nodes[i];
+    for (int d = 0; d < D; ++d) {
+      xyz[3 * i + d] = c.position[d];
+      force.f64[3 * i + d] = c.force[d];
+      normal.f64[3 * i + d] = c.normal[d];
+    }
+    body.i32.push_back(c.body);
+    other.i32.push_back(c.other);
+    frictional.f64.push_back(c.frictional);
+    cohesive.f64.push_back(c.cohesive);
+  }
+  return vertices_to_vtu(xyz, {body, other, force, normal, frictional, cohesive});
+}
+
 } // namespace
 
 template <int D>
@@ -102,6 +127,11 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
     write_file_atomic(dir_ + "/" + name, particles_to_vtu<D>(P, mats, VtuFields{c.output.fields}));
     frames_.emplace_back(t, name);
   }
+  if (c.output.contact_nodes) {
+    const std::string name = fmt::format("contact_nodes_{:06d}.vtu", contact_frames_.size());
+    write_file_atomic(dir_ + "/" + name, contact_nodes_to_vtu<D>(sim.contact_nodes()));
+    contact_frames_.emplace_back(t, name);
+  }
   write_tables(sim);
 }
 
@@ -110,6 +140,8 @@ void RunWriter<D>::write_tables(const Simulation<D>& sim) const {
   const Case& c = sim.case_();
   const int B = sim.num_bodies();
   if (c.output.particles) write_file_atomic(dir_ + "/particles.pvd", pvd_collection(frames_));
+  if (c.output.contact_nodes)
+    write_file_atomic(dir_ + "/contact_nodes.pvd", pvd_collection(contact_frames_));
   write_file_atomic(dir_ + "/energy.csv", energy_);
   write_file_atomic(dir_ + "/bodies.csv", bodies_);
   if (!probe_ids_.empty()) write_file_atomic(dir_ + "/probes.csv", probes_);

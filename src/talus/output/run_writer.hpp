@@ -15,7 +15,8 @@ class RunWriter {
 public:
   RunWriter(std::string dir, const Simulation<D>& sim);
 
-  // Appends a row to the CSVs and, if enabled, writes particles_NNNNNN.vtu and particles.pvd.
+  // Appends a row to the CSVs and, if enabled, writes particles_NNNNNN.vtu and particles.pvd,
+  // and contact_nodes_NNNNNN.vtu and contact_nodes.pvd (the last step's nodal contact forces).
   void write_frame(const Simulation<D>& sim);
   // summary.json with the run's status ("completed", "failed", "interrupted").
   void write_summary(const Simulation<D>& sim, const std::string& status, double wall_seconds,
@@ -30,7 +31,7 @@ public:
   template <class Ar>
   void serialize(Ar& ar) {
     ar.io(probe_ids_), ar.io(energy_), ar.io(bodies_), ar.io(probes_), ar.io(contacts_);
-    ar.io(interfaces_), ar.io(frames_);
+    ar.io(interfaces_), ar.io(frames_), ar.io(contact_frames_);
   }
 
   const std::string& dir() const { return dir_; }
@@ -40,6 +41,7 @@ private:
   std::vector<std::uint32_t> probe_ids_;
   std::string energy_, bodies_, probes_, contacts_, interfaces_;
   std::vector<std::pair<double, std::string>> frames_;
+  std::vector<std::pair<double, std::string>> contact_frames_; // contact_nodes_NNNNNN.vtu
 };
 
 } // namespace talus

@@ -46,6 +46,28 @@ void data_array(std::string& out, const char* type, const std::string& name, int
   out += "\n        </DataArray>\n";
 }
 
+// The head of a VTU of n vertices at xyz (3 values per point), up to the opening of PointData.
+void open_vertices(std::string& out, std::size_t n, const std::vector<double>& xyz) {
+  out += "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+         "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n";
+  out += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
+  out += "      <Points>\n";
+  data_array(out, "Float64", "position", 3, xyz);
+  out += "      </Points>\n      <Cells>\n";
+  std::vector<std::int64_t> conn(n), offsets(n);
+  std::vector<std::uint8_t> types(n, 1); // VTK_VERTEX
+  for (std::size_t p = 0; p < n; ++p)
+    conn[p] = static_cast<std::int64_t>(p), offsets[p] = static_cast<std::int64_t>(p + 1);
+  data_array(out, "Int64", "connectivity", 1, conn);
+  data_array(out, "Int64", "offsets", 1, offsets);
+  data_array(out, "UInt8", "types", 1, types);
+  out += "      </Cells>\n      <PointData>\n";
+}
+
+void close_vertices(std::string& out) {
+  out += "      </PointData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+}
+
 } // namespace
 
 template <int D>
@@ -60,20 +82,7 @@ std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body
     return a;
   };
   std::string out;
-  out += "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-         "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n";
-  out += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
-  out += "      <Points>\n";
-  data_array(out, "Float64", "position", 3, vec3([&](std::size_t p) { return P.x[p]; }));
-  out += "      </Points>\n      <Cells>\n";
-  std::vector<std::int64_t> conn(n), offsets(n);
-  std::vector<std::uint8_t> types(n, 1); // VTK_VERTEX
-  for (std::size_t p = 0; p < n; ++p)
-    conn[p] = static_cast<std::int64_t>(p), offsets[p] = static_cast<std::int64_t>(p + 1);
-  data_array(out, "Int64", "connectivity", 1, conn);
-  data_array(out, "Int64", "offsets", 1, offsets);
-  data_array(out, "UInt8", "types", 1, types);
-  out += "      </Cells>\n      <PointData>\n";
+  open_vertices(out, n, vec3([&](std::size_t p) { return P.x[p]; }));
 
   std::vector<std::int32_t> body(n), material(n);
   for (int b = 0; b < P.num_bodies(); ++b)
@@ -104,7 +113,20 @@ std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body
     data_array(out, "Float64", "interface_cohesion", 1, P.cohesion);
     data_array(out, "Float64", "interface_friction", 1, P.friction);
   }
-  out += "      </PointData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  close_vertices(out);
+  return out;
+}
+
+std::string vertices_to_vtu(const std::vector<double>& xyz, const std::vector<VtuArray>& arrays) {
+  std::string out;
+  open_vertices(out, xyz.size() / 3, xyz);
+  for (const VtuArray& a : arrays) {
+    if (!a.f64.empty())
+      data_array(out, "Float64", a.name, a.components, a.f64);
+    else
+      data_array(out, "Int32", a.name, a.components, a.i32);
+  }
+  close_vertices(out);
   return out;
 }
 

@@ -4,6 +4,7 @@
 
 #include "talus/particles.hpp"
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +20,16 @@ struct VtuFields {
 template <int D>
 std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body_material,
                              const VtuFields& fields);
+
+// Any point set as VTU vertices: positions (x, y, z per point) and named point arrays, each
+// Float64 (f64, if not empty) or Int32 (i32), `components` values per point.
+struct VtuArray {
+  std::string name;
+  int components = 1;
+  std::vector<double> f64;
+  std::vector<std::int32_t> i32;
+};
+std::string vertices_to_vtu(const std::vector<double>& xyz, const std::vector<VtuArray>& arrays);
 
 // A .pvd collection of (time, file name) frames.
 std::string pvd_collection(const std::vector<std::pair<double, std::string>>& frames);
