@@ -144,7 +144,7 @@ TEST(SlidingBlock, ContactNodeForcesAddUpToThePairTotal) {
 // A cylinder rolls without slipping (x = g t^2 sin(theta) / 3) when tan(theta) <= 3 mu, and
 // otherwise slips (x = g t^2 (sin(theta) - mu cos(theta)) / 2). Within 2 % at t = 1 s.
 // The paper's fourth trial (60 degrees, mu = 0.6, right at the limit tan(theta) = 1.73 vs 3 mu =
-// 1.8) is not here: it is off by 2-7 % (docs/verification.md).
+// 1.8) is not here: it is off by +2 to +3.4 % (docs/verification.md).
 TEST(RollingDisk, ThreeTrialsWithinTwoPercent) {
   struct Trial {
     double degrees, mu;
