@@ -164,6 +164,38 @@ TEST(RollingDisk, ThreeTrialsWithinTwoPercent) {
   }
 }
 
+// In 3D a solid sphere rolls without slipping, x = (5/14) g t^2 sin(theta), while
+// tan(theta) <= (7/2) mu, and otherwise slips, x = g t^2 (sin(theta) - mu cos(theta)) / 2: 45
+// degrees with mu 0.4 (rolls) and 0.1 (slips), within 2 % at t = 1 s. The case works in the
+// plane's frame (gravity turned by 45 degrees), so the displacement is along x.
+TEST(RollingSphere, RollsAndSlipsWithinTwoPercentIn3D) {
+  const double theta = std::numbers::pi / 4.0;
+  for (double mu : {0.4, 0.1}) {
+    const Case c =
+        parse_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/rolling_sphere.toml",
+                        {fmt::format("contact.0.friction={}", mu)});
+    Simulation<3> sim(c);
+    const auto& P = sim.particles();
+    auto centroid_x = [&] {
+      double m = 0, mx = 0;
+      for (std::size_t p = P.body_begin[0]; p < P.body_begin[1]; ++p)
+        m += P.m[p], mx += P.m[p] * P.x[p][0];
+      return mx / m;
+    };
+    const double x0 = centroid_x();
+    while (sim.time() < 1.0 - 1e-12)
+      sim.step(1.0 - sim.time());
+    const bool rolls = std::tan(theta) <= 3.5 * mu;
+    const double exact = rolls ? 5.0 / 14.0 * g * std::sin(theta)
+                               : 0.5 * g * (std::sin(theta) - mu * std::cos(theta));
+    const double err = (centroid_x() - x0 - exact) / exact;
+    std::printf("rolling sphere 45 deg, mu %.2f (%s): %.4f m at 1 s (closed form %.4f), error "
+                "%+.3f %%\n",
+                mu, rolls ? "rolls" : "slips", centroid_x() - x0, exact, 100 * err);
+    EXPECT_LT(std::abs(err), 0.02);
+  }
+}
+
 // Two elastic disks collide head-on with no gravity and no friction: momentum is conserved to
 // round-off and no particle of one disk ends up inside the other.
 TEST(DiskCollision, ConservesMomentumWithoutInterpenetration) {
