@@ -12,58 +12,85 @@ namespace talus {
 enum class ShapeKind { linear, gimp };
 
 // Up to 3 nodes per direction (GIMP); linear uses the first 2.
+// Not zero-filled on construction (that cost a quarter of evaluate_shape): evaluate_shape writes
+// every entry that for_each_node reads (the first k per direction).
 template <int D>
 struct ShapeWeights {
   static constexpr int max_k = 3;
-  Index<D> base{};       // lowest node in the support, per direction
-  int k = 2;             // nodes per direction
-  double w[D][max_k]{};  // 1D weights
-  double dw[D][max_k]{}; // 1D derivatives d/dx
+  Index<D> base;       // lowest node in the support, per direction
+  int k = 2;           // nodes per direction
+  double w[D][max_k];  // 1D weights
+  double dw[D][max_k]; // 1D derivatives d/dx
 };
 
-// 1D uniform GIMP weight and derivative for a node at signed distance r = x_p - x_I, cell size h
-// and particle half-width lp (Bardenhagen & Kober 2004).
-inline void gimp_1d(double r, double h, double lp, double& w, double& dw) {
+// The reciprocals the GIMP weights need (of h, h lp, 2 h lp and 4 h lp), taken once per particle
+// so that the weights of its nodes cost multiplications only.
+struct GimpFactors {
+  double h, lp, inv_h, inv_hlp, inv_2hlp, inv_4hlp;
+  GimpFactors(double h_, double lp_)
+      : h(h_), lp(lp_), inv_h(1.0 / h_), inv_hlp(1.0 / (h_ * lp_)), inv_2hlp(0.5 / (h_ * lp_)),
+        inv_4hlp(0.25 / (h_ * lp_)) {}
+};
+
+inline void gimp_1d(double r, const GimpFactors& f, double& w, double& dw) {
   const double a = std::abs(r);
   const double s = r < 0.0 ? -1.0 : 1.0;
-  if (a < lp) {
-    w = 1.0 - (r * r + lp * lp) / (2.0 * h * lp);
-    dw = -r / (h * lp);
-  } else if (a < h - lp) {
-    w = 1.0 - a / h;
-    dw = -s / h;
-  } else if (a < h + lp) {
-    const double t = h + lp - a;
-    w = t * t / (4.0 * h * lp);
-    dw = -s * t / (2.0 * h * lp);
+  if (a < f.lp) {
+    w = 1.0 - (r * r + f.lp * f.lp) * f.inv_2hlp;
+    dw = -r * f.inv_hlp;
+  } else if (a < f.h - f.lp) {
+    w = 1.0 - a * f.inv_h;
+    dw = -s * f.inv_h;
+  } else if (a < f.h + f.lp) {
+    const double t = f.h + f.lp - a;
+    w = t * t * f.inv_4hlp;
+    dw = -s * t * f.inv_2hlp;
   } else {
     w = 0.0;
     dw = 0.0;
   }
 }
 
+// 1D uniform GIMP weight and derivative for a node at signed distance r = x_p - x_I, cell size h
+// and particle half-width lp (Bardenhagen & Kober 2004).
+inline void gimp_1d(double r, double h, double lp, double& w, double& dw) {
+  gimp_1d(r, GimpFactors(h, lp), w, dw);
+}
+
 // Weights of the particle at x. lp is the GIMP half-width (ignored for linear). Nodes outside the
 // grid get zero weight (their index is clamped so the kernel loops never read out of range).
 template <int D>
-ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, double lp, const Vec<D>& x) {
+inline ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, double lp,
+                                      const Vec<D>& x) {
   ShapeWeights<D> sw;
-  sw.k = kind == ShapeKind::linear ? 2 : 3;
-  for (int d = 0; d < D; ++d) {
-    const double xi = (x[d] - grid.origin[d]) / grid.h;
-    const auto base =
-        static_cast<std::int64_t>(std::floor(kind == ShapeKind::linear ? xi : xi - 0.5));
-    sw.base[d] = base;
-    for (int a = 0; a < sw.k; ++a) {
-      const std::int64_t node = base + a;
-      double w = 0.0, dw = 0.0;
-      if (kind == ShapeKind::linear) {
+  const double inv_h = 1.0 / grid.h;
+  if (kind == ShapeKind::linear) {
+    sw.k = 2;
+    for (int d = 0; d < D; ++d) {
+      const double xi = (x[d] - grid.origin[d]) * inv_h;
+      const auto base = static_cast<std::int64_t>(std::floor(xi));
+      sw.base[d] = base;
+      for (int a = 0; a < 2; ++a) {
+        const std::int64_t node = base + a;
         const double r = xi - static_cast<double>(node);
-        w = 1.0 - std::abs(r);
-        dw = (r < 0.0 ? 1.0 : -1.0) / grid.h;
-        if (w < 0.0) w = dw = 0.0;
-      } else {
-        gimp_1d((xi - static_cast<double>(node)) * grid.h, grid.h, lp, w, dw);
+        double w = 1.0 - std::abs(r), dw = (r < 0.0 ? 1.0 : -1.0) * inv_h;
+        if (w < 0.0 || node < 0 || node >= grid.nodes[d]) w = dw = 0.0;
+        sw.w[d][a] = w;
+        sw.dw[d][a] = dw;
       }
+    }
+    return sw;
+  }
+  sw.k = 3;
+  const GimpFactors f(grid.h, lp);
+  for (int d = 0; d < D; ++d) {
+    const double xi = (x[d] - grid.origin[d]) * inv_h;
+    const auto base = static_cast<std::int64_t>(std::floor(xi - 0.5));
+    sw.base[d] = base;
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t node = base + a;
+      double w, dw;
+      gimp_1d((xi - static_cast<double>(node)) * grid.h, f, w, dw);
       if (node < 0 || node >= grid.nodes[d]) w = dw = 0.0;
       sw.w[d][a] = w;
       sw.dw[d][a] = dw;
