@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
+#include <limits>
 #include <numeric>
 #include <variant>
 
@@ -79,6 +80,11 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   interface_impulse_.assign(c.interfaces.size(), InterfaceForce{});
   for (const ContactPair& pair : c.contact.pairs)
     pair_friction_[pair.a * B + pair.b] = pair_friction_[pair.b * B + pair.a] = pair.friction;
+  normal_cache_.resize(B);
+  for (int b = 0; b < B; ++b)
+    if (c.bodies[b].geometric_normal)
+      normal_cache_[b].assign(static_cast<std::size_t>(grid_.num_nodes()),
+                              Vec<D>::Constant(std::numeric_limits<double>::quiet_NaN()));
   contact_law_.gap_cutoff = c.contact.gap_cutoff;
   contact_law_.cell_size = c.grid.cell_size;
   contact_force_.assign(B * B, Vec<D>::Zero());
@@ -405,10 +411,18 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         node.rank[k] = body_mass_[b] + 1e-9 * b; // ties broken by body order
         node.surface_normal[k].setZero();
         if (case_data_.bodies[b].geometric_normal) {
-          // The exact normal of the body's geometry (moved with a rigid body's velocity).
-          const Vec<D> x_I = grid_.node_position(g) -
-                             (node.rigid[k] ? Vec<D>(rigid_velocity_[b] * time_) : Vec<D>::Zero());
-          node.surface_normal[k] = surface_normal<D>(case_data_.bodies[b].geometry[0], x_I);
+          // The exact normal of the body's geometry (moved with a rigid body's velocity). A body
+          // whose geometry stays put keeps each node's normal in a cache.
+          const bool moves = node.rigid[k] && !rigid_velocity_[b].isZero();
+          Vec<D>* cached = moves ? nullptr : &normal_cache_[b][grid_.node_index(g)];
+          if (cached && !std::isnan((*cached)[0])) {
+            node.surface_normal[k] = *cached;
+          } else {
+            const Vec<D> x_I = grid_.node_position(g) -
+                               (moves ? Vec<D>(rigid_velocity_[b] * time_) : Vec<D>::Zero());
+            node.surface_normal[k] = surface_normal<D>(case_data_.bodies[b].geometry[0], x_I);
+            if (cached) *cached = node.surface_normal[k]; // this row's thread alone writes it
+          }
         }
       }
       if (node.n >= 2) {

@@ -171,6 +171,9 @@ private:
   std::vector<Vec<D>> rigid_velocity_;  // per body (used if rigid)
   std::vector<double> pair_friction_;   // B x B
   std::vector<double> body_mass_;       // total mass per body: the master of a contact pair
+  // Per body with geometric_normal: its surface normal at every grid node, filled as contact
+  // first meets the node (NaN: not yet); unused for rigid bodies that move.
+  std::vector<std::vector<Vec<D>>> normal_cache_;
   GridConditions<D> conditions_;
   ContactLaw contact_law_;
   Vec<D> gravity_ = Vec<D>::Zero();
