@@ -541,7 +541,7 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
   // on the thread count (chunk sums, then the chunks in order).
   const std::int64_t chunks = (end - begin + work_chunk - 1) / work_chunk;
   if (static_cast<std::int64_t>(chunk_work_.size()) < chunks) chunk_work_.resize(chunks);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 1)
   for (std::int64_t c = 0; c < chunks; ++c) {
     double work = 0.0;
     for (std::int64_t p = begin + c * work_chunk; p < std::min(end, begin + (c + 1) * work_chunk);

@@ -197,7 +197,7 @@ private:
   std::vector<double> contact_work_rows_;       // per grid row x B
   std::vector<std::vector<ContactNodeForce<D>>> contact_node_rows_;   // per grid row
   std::vector<double> contact_work_, internal_work_, strain_energy0_; // per body, since release
-  static constexpr std::int64_t work_chunk = 4096; // particles per chunk of the stress work sum
+  static constexpr std::int64_t work_chunk = 1024; // particles per chunk of the stress work sum
   std::vector<double> chunk_work_;
 
   double time_ = 0.0;
