@@ -286,6 +286,53 @@ void Simulation<D>::map_forces_to_nodes() {
   });
 }
 
+// An interface particle's slip grows by the nodes' slip rate (eq. 38-39, as tangential slip),
+// and its cohesion and friction follow their curves. Nothing degrades while settling.
+template <int D>
+void Simulation<D>::gather_slip(std::size_t p, const BodyField<D>& N, const ShapeWeights<D>& sw,
+                                double dt) {
+  auto& P = particles_;
+  if (P.iface[p] < 0 || settling_) return;
+  double rate = 0.0;
+  for_each_node(N.box, sw,
+                [&](std::int64_t I, double N_I, const Vec<D>&) { rate += N_I * N.slip_rate[I]; });
+  const InterfaceSpec& spec = case_data_.interfaces[P.iface[p]];
+  P.slip[p] += rate * dt;
+  P.cohesion[p] = spec.cohesion.at(P.slip[p], spec.curve);
+  P.friction[p] = spec.friction.at(P.slip[p], spec.curve);
+}
+
+// MUSL's middle: each particle takes the FLIP/PIC velocity of the contact-corrected grid (and
+// its slip), then its new momentum is scattered for the re-mapped velocity. One coloured pass
+// does both with one shape evaluation: the gather reads v and v_new, the scatter writes p.
+template <int D>
+void Simulation<D>::update_velocities_and_remap(double dt) {
+  auto& P = particles_;
+  const ShapeKind kind = case_data_.grid.shape;
+  const double flip = case_data_.simulation.flip;
+  for (auto& N : fields_)
+    std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
+  scatter([&](std::uint32_t p, int b) {
+    BodyField<D>& N = fields_[b];
+    const ShapeWeights<D> sw = evaluate_shape(N.box, kind, body_lp_[b], P.x[p]);
+    if (case_data_.bodies[b].rigid) {
+      P.v[p] = rigid_velocity_[b];
+    } else {
+      Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
+      for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+        v_old += N_I * N.v[I];
+        v_new += N_I * N.v_new[I];
+      });
+      P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
+      gather_slip(p, N, sw, dt);
+    }
+    const Vec<D> mv_p = P.m[p] * P.v[p];
+    for_each_node(N.box, sw,
+                  [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
+  });
+  finish_remap();
+}
+
 // MUSL: momentum of the updated particle velocities, re-mapped for the strain rate.
 template <int D>
 void Simulation<D>::map_momentum_to_nodes() {
@@ -300,6 +347,12 @@ void Simulation<D>::map_momentum_to_nodes() {
     for_each_node(N.box, sw,
                   [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
   });
+  finish_remap();
+}
+
+// The re-mapped velocity p/m of every body, with the velocity conditions and rigid motions.
+template <int D>
+void Simulation<D>::finish_remap() {
   for (int b = 0; b < num_bodies(); ++b) {
     BodyField<D>& N = fields_[b];
     const std::int64_t n = static_cast<std::int64_t>(N.size());
@@ -561,17 +614,9 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
         }
         if (what.strain_rate) L += (N.*what.strain_rate)[I] * dN_I.transpose();
       });
-      if (what.velocity) P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
-      if (what.velocity && P.iface[p] >= 0 &&
-          !settling_) { // slip back to the interface particle; degrade
-        double rate = 0.0;
-        for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
-          rate += N_I * N.slip_rate[I];
-        });
-        const InterfaceSpec& spec = case_data_.interfaces[P.iface[p]];
-        P.slip[p] += rate * dt;
-        P.cohesion[p] = spec.cohesion.at(P.slip[p], spec.curve);
-        P.friction[p] = spec.friction.at(P.slip[p], spec.curve);
+      if (what.velocity) {
+        P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
+        gather_slip(static_cast<std::size_t>(p), N, sw, dt);
       }
       if (what.move) P.x[p] += 0.5 * dt * (v_old + v_new);
       if (model) {
@@ -647,8 +692,7 @@ void Simulation<D>::step(double dt_limit) {
     timed(T.p2g, [&] { map_particles_to_nodes(true); });
     timed(T.grid, [&] { compute_node_velocities(dt_); });
     timed(T.contact, [&] { apply_contact(&F::v_new, dt_, true); });
-    timed(T.g2p, [&] { map_nodes_to_particles(dt_, {.velocity = true}); });
-    timed(T.p2g, [&] { map_momentum_to_nodes(); });
+    timed(T.g2p, [&] { update_velocities_and_remap(dt_); });
     timed(T.contact, [&] { apply_contact(&F::v_remap, dt_, false); });
     timed(T.stress,
           [&] { map_nodes_to_particles(dt_, {.move = true, .strain_rate = &F::v_remap}); });

@@ -9,6 +9,7 @@
 #include "talus/nodes.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/particles.hpp"
+#include "talus/shape.hpp"
 
 #include <cstdint>
 #include <stdexcept>
@@ -139,6 +140,8 @@ public:
   void map_particles_to_nodes(bool with_forces);
   void map_forces_to_nodes();
   void map_momentum_to_nodes();
+  // MUSL's particle velocity update and momentum re-map in one coloured pass.
+  void update_velocities_and_remap(double dt);
   void compute_node_velocities(double dt);
   // Contact on one velocity array of every body field (v, v_new or v_remap).
   void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, bool record);
@@ -155,6 +158,8 @@ public:
 private:
   template <class Model>
   void map_nodes_to_body(int body, double dt, const Gather& what, const Model* model);
+  void gather_slip(std::size_t p, const BodyField<D>& N, const ShapeWeights<D>& sw, double dt);
+  void finish_remap();
   [[noreturn]] void report_time_step_collapse(double stable, double floor) const;
   void impose_rigid_velocity(std::vector<Vec<D>> BodyField<D>::*velocity);
   // Calls f(p, body) for every particle, slab colour by slab colour, so that no two threads
