@@ -98,6 +98,10 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   // colour at least one slab apart.
   slab_width_ = 4;
   num_slabs_ = (grid_.cells[0] + slab_width_ - 1) / slab_width_;
+  // The energy budget counts from the start (the initial stresses' elastic energy is its
+  // baseline) until release() restarts it.
+  for (int b = 0; b < B; ++b)
+    strain_energy0_.push_back(strain_energy(b));
   bin_offset_.assign(static_cast<std::size_t>(num_slabs_ * B + 1), 0);
 }
 

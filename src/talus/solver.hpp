@@ -83,18 +83,18 @@ public:
   // (recorded only when the case's output.contact_nodes is on).
   std::vector<ContactNodeForce<D>> contact_nodes() const;
 
-  // Energy budget of body b since release (or the start), J (per unit thickness in 2D): the work
-  // of gravity, of the contact and interface forces (the kinetic energy they add at the nodes;
-  // negative when they brake), of the stresses (integral of sigma : D dV dt, the elastic energy
-  // stored plus the plastic work) and the elastic energy held now. With the kinetic energy, what
-  // does not balance is the scheme's own dissipation and the work of the grid conditions.
+  // Energy budget of body b since release (or the start, without settling), J (per unit thickness
+  // in 2D): the work of gravity, of the contact and interface forces (the kinetic energy they add
+  // at the nodes; negative when they brake), of the stresses (integral of sigma : D dV dt, the
+  // elastic energy stored plus the plastic work) and the elastic energy held now. With the kinetic
+  // energy, what does not balance is the scheme's own dissipation and the work of the grid
+  // conditions.
   double gravity_work(int b) const;
   double contact_work(int b) const { return contact_work_[b]; }
   double internal_work(int b) const { return internal_work_[b]; }
   double strain_energy(int b) const;
-  double strain_energy_at_release(int b) const {
-    return strain_energy0_.empty() ? 0.0 : strain_energy0_[b];
-  }
+  // The elastic energy at release (or at the start, without settling).
+  double strain_energy_at_release(int b) const { return strain_energy0_[b]; }
 
   // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
   const std::vector<std::string>& warnings() const { return warnings_; }
