@@ -334,29 +334,7 @@ void Simulation<D>::update_velocities_and_remap(double dt) {
     for_each_node(N.box, sw,
                   [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
   });
-  finish_remap();
-}
-
-// MUSL: momentum of the updated particle velocities, re-mapped for the strain rate.
-template <int D>
-void Simulation<D>::map_momentum_to_nodes() {
-  auto& P = particles_;
-  const ShapeKind kind = case_data_.grid.shape;
-  for (auto& N : fields_)
-    std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
-  scatter([&](std::uint32_t p, int b) {
-    BodyField<D>& N = fields_[b];
-    const ShapeWeights<D> sw = evaluate_shape(N.box, kind, body_lp_[b], P.x[p]);
-    const Vec<D> mv_p = P.m[p] * P.v[p];
-    for_each_node(N.box, sw,
-                  [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
-  });
-  finish_remap();
-}
-
-// The re-mapped velocity p/m of every body, with the velocity conditions and rigid motions.
-template <int D>
-void Simulation<D>::finish_remap() {
+  // The re-mapped velocity p/m of every body, with the velocity conditions and rigid motions.
   for (int b = 0; b < num_bodies(); ++b) {
     BodyField<D>& N = fields_[b];
     const std::int64_t n = static_cast<std::int64_t>(N.size());

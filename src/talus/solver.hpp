@@ -139,7 +139,6 @@ public:
   void fit_body_fields();
   void map_particles_to_nodes(bool with_forces);
   void map_forces_to_nodes();
-  void map_momentum_to_nodes();
   // MUSL's particle velocity update and momentum re-map in one coloured pass.
   void update_velocities_and_remap(double dt);
   void compute_node_velocities(double dt);
@@ -159,7 +158,6 @@ private:
   template <class Model>
   void map_nodes_to_body(int body, double dt, const Gather& what, const Model* model);
   void gather_slip(std::size_t p, const BodyField<D>& N, const ShapeWeights<D>& sw, double dt);
-  void finish_remap();
   [[noreturn]] void report_time_step_collapse(double stable, double floor) const;
   void impose_rigid_velocity(std::vector<Vec<D>> BodyField<D>::*velocity);
   // Calls f(p, body) for every particle, slab colour by slab colour, so that no two threads
