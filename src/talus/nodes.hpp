@@ -26,6 +26,13 @@ struct BodyField {
   // sum N mu^p A^p and sum N A^p; and the slip rate found by contact, gathered back as slip.
   std::vector<double> cohesion, tension, friction_area, area, slip_rate;
 
+  // Which of the optional arrays the run uses: contact (grad_m, mx: two or more bodies),
+  // interfaces (the five interface arrays) and MUSL's re-map (v_remap). Arrays a run does not
+  // use stay empty: no memory, no clearing, no scatter.
+  struct Needs {
+    bool contact = true, interfaces = true, remap = true;
+  } needs;
+
   std::size_t size() const { return m.size(); }
 
   // Refits the box to global node range [lo, hi) and clears the mapped quantities. Vectors only
@@ -40,14 +47,17 @@ struct BodyField {
       box.origin[d] = grid.origin[d] + grid.h * static_cast<double>(lo[d]);
       n *= static_cast<std::size_t>(box.nodes[d]);
     }
-    for (auto* a : {&p, &f, &grad_m, &mx, &v, &v_new, &v_remap})
+    auto clear = [n](auto& a, const auto& zero) { a.assign(n, zero); };
+    for (auto* a : {&v, &v_new})
       a->resize(n);
-    for (auto* a : {&m, &cohesion, &tension, &friction_area, &area, &slip_rate}) {
-      a->resize(n);
-      std::fill(a->begin(), a->end(), 0.0);
-    }
-    for (auto* a : {&p, &f, &grad_m, &mx})
-      std::fill(a->begin(), a->end(), Vec<D>::Zero());
+    if (needs.remap) v_remap.resize(n);
+    clear(m, 0.0);
+    clear(p, Vec<D>::Zero());
+    clear(f, Vec<D>::Zero());
+    if (needs.contact) clear(grad_m, Vec<D>::Zero()), clear(mx, Vec<D>::Zero());
+    if (needs.interfaces)
+      for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate})
+        clear(*a, 0.0);
   }
 
   // Local index of global node coordinates, or -1 outside the box.

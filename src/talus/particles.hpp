@@ -44,6 +44,10 @@ struct Particles {
         f(iface_area), f(cohesion), f(friction), f(slip);
   }
 
+  void reserve(std::size_t n) {
+    for_each_array([n](auto& a) { a.reserve(n); });
+  }
+
   void push_back(const Vec<D>& pos, const Vec<D>& vel, double mass, double volume) {
     x.push_back(pos);
     x0.push_back(pos);

@@ -99,29 +99,34 @@ inline ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, doubl
   return sw;
 }
 
-// Calls f(node_index, N, grad N) for every node in the support of sw.
-template <int D, class F>
-inline void for_each_node(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& f) {
-  const int k = sw.k;
+namespace shape_detail {
+
+// The loops of for_each_node with the nodes per direction K known at compile time, so that they
+// unroll (linear: K = 2, GIMP: K = 3).
+template <int K, int D, class F>
+inline void for_each_node_k(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& f) {
   auto clamp = [&](int d, std::int64_t i) {
     return i < 0 ? std::int64_t{0} : (i >= grid.nodes[d] ? grid.nodes[d] - 1 : i);
   };
   if constexpr (D == 2) {
-    for (int a = 0; a < k; ++a) {
+    std::int64_t col[K];
+    for (int b = 0; b < K; ++b)
+      col[b] = clamp(1, sw.base[1] + b);
+    for (int a = 0; a < K; ++a) {
       const std::int64_t row = clamp(0, sw.base[0] + a) * grid.nodes[1];
-      for (int b = 0; b < k; ++b) {
+      for (int b = 0; b < K; ++b) {
         const double N = sw.w[0][a] * sw.w[1][b];
         const Vec<2> g(sw.dw[0][a] * sw.w[1][b], sw.w[0][a] * sw.dw[1][b]);
-        f(row + clamp(1, sw.base[1] + b), N, g);
+        f(row + col[b], N, g);
       }
     }
   } else {
-    for (int a = 0; a < k; ++a) {
-      for (int b = 0; b < k; ++b) {
+    for (int a = 0; a < K; ++a) {
+      for (int b = 0; b < K; ++b) {
         const std::int64_t row =
             (clamp(0, sw.base[0] + a) * grid.nodes[1] + clamp(1, sw.base[1] + b)) * grid.nodes[2];
         const double wab = sw.w[0][a] * sw.w[1][b];
-        for (int c = 0; c < k; ++c) {
+        for (int c = 0; c < K; ++c) {
           const double N = wab * sw.w[2][c];
           const Vec<3> g(sw.dw[0][a] * sw.w[1][b] * sw.w[2][c],
                          sw.w[0][a] * sw.dw[1][b] * sw.w[2][c], wab * sw.dw[2][c]);
@@ -130,6 +135,17 @@ inline void for_each_node(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& f)
       }
     }
   }
+}
+
+} // namespace shape_detail
+
+// Calls f(node_index, N, grad N) for every node in the support of sw, in a fixed order (x-major).
+template <int D, class F>
+inline void for_each_node(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& f) {
+  if (sw.k == 2)
+    shape_detail::for_each_node_k<2>(grid, sw, f);
+  else
+    shape_detail::for_each_node_k<3>(grid, sw, f);
 }
 
 } // namespace talus

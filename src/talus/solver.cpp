@@ -23,12 +23,26 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// a[i] <- a[order[i]] in place, one cycle of the permutation at a time: no copy of the array
+// (a copy of the largest, the stress, was the peak of the memory), one byte per element of marks.
 template <class T>
-void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
-  std::vector<T> tmp(a.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    tmp[i] = a[order[i]];
-  a.swap(tmp);
+void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order, std::vector<char>& done) {
+  done.assign(a.size(), 0);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (done[i]) continue;
+    T first = a[i];
+    std::size_t j = i;
+    while (true) {
+      done[j] = 1;
+      const std::size_t k = order[j];
+      if (k == i) {
+        a[j] = first;
+        break;
+      }
+      a[j] = a[k];
+      j = k;
+    }
+  }
 }
 
 // Records the smallest bad particle index seen by any thread.
@@ -61,6 +75,7 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
       body_mass_[b] += particles_.m[p];
   for (const BodySpec& b : c.bodies) {
     body_material_.push_back(c.materials[b.material]);
+    body_material_.back().prepare();
     body_lp_.push_back(0.5 * c.grid.cell_size / b.particles_per_cell);
     Vec<D> v;
     for (int d = 0; d < D; ++d)
@@ -80,6 +95,11 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   interface_impulse_.assign(c.interfaces.size(), InterfaceForce{});
   for (const ContactPair& pair : c.contact.pairs)
     pair_friction_[pair.a * B + pair.b] = pair_friction_[pair.b * B + pair.a] = pair.friction;
+  for (BodyField<D>& N : fields_) {
+    N.needs.contact = B > 1;
+    N.needs.interfaces = !c.interfaces.empty();
+    N.needs.remap = c.simulation.scheme == Scheme::musl;
+  }
   normal_cache_.resize(B);
   for (int b = 0; b < B; ++b)
     if (c.bodies[b].geometric_normal)
@@ -105,10 +125,14 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   bin_offset_.assign(static_cast<std::size_t>(num_slabs_ * B + 1), 0);
 }
 
+// One pass over the particles: the stable time step (CFL on the P-wave speed plus the particle
+// speed) and the check for a particle gone bad (see check_particles), which it reports.
 template <int D>
 double Simulation<D>::compute_time_step() const {
   const auto& P = particles_;
   double max_speed = 0.0;
+  std::atomic<std::size_t> bad{P.size()};
+  const Vec<D> lo = grid_.origin, hi = grid_.upper();
   for (int b = 0; b < P.num_bodies(); ++b) {
     // A rigid body carries no stress wave: only its speed counts.
     const double modulus = case_data_.bodies[b].rigid ? 0.0 : body_material_[b].p_wave_modulus();
@@ -117,8 +141,10 @@ double Simulation<D>::compute_time_step() const {
     for (std::int64_t p = begin; p < end; ++p) {
       const double c = std::sqrt(modulus * P.vol[p] / P.m[p]);
       max_speed = std::max(max_speed, c + P.v[p].norm());
+      if (!particle_ok(p, lo, hi)) record_bad(bad, static_cast<std::size_t>(p));
     }
   }
+  if (bad.load() != P.size()) report_bad_particle(bad.load());
   double dt = case_data_.simulation.dt ? *case_data_.simulation.dt
                                        : case_data_.simulation.cfl * grid_.h / max_speed;
   return std::min(dt, case_data_.simulation.dt_max);
@@ -147,18 +173,26 @@ void Simulation<D>::report_time_step_collapse(double stable, double floor) const
 }
 
 template <int D>
+bool Simulation<D>::particle_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const {
+  const auto& P = particles_;
+  return P.x[p].allFinite() && P.v[p].allFinite() && P.stress[p].allFinite() &&
+         (P.x[p].array() >= lo.array()).all() && (P.x[p].array() <= hi.array()).all();
+}
+
+template <int D>
 void Simulation<D>::check_particles() const {
   const auto& P = particles_;
   std::atomic<std::size_t> bad{P.size()};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
 #pragma omp parallel for schedule(static)
-  for (std::int64_t p = 0; p < static_cast<std::int64_t>(P.size()); ++p) {
-    const bool ok = P.x[p].allFinite() && P.v[p].allFinite() && P.stress[p].allFinite() &&
-                    (P.x[p].array() >= lo.array()).all() && (P.x[p].array() <= hi.array()).all();
-    if (!ok) record_bad(bad, static_cast<std::size_t>(p));
-  }
-  const std::size_t p = bad.load();
-  if (p == P.size()) return;
+  for (std::int64_t p = 0; p < static_cast<std::int64_t>(P.size()); ++p)
+    if (!particle_ok(p, lo, hi)) record_bad(bad, static_cast<std::size_t>(p));
+  if (bad.load() != P.size()) report_bad_particle(bad.load());
+}
+
+template <int D>
+void Simulation<D>::report_bad_particle(std::size_t p) const {
+  const auto& P = particles_;
   const char* what = !P.x[p].allFinite()        ? "position is not finite"
                      : !P.v[p].allFinite()      ? "velocity is not finite"
                      : !P.stress[p].allFinite() ? "stress is not finite"
@@ -180,7 +214,8 @@ void Simulation<D>::sort_particles_by_cell() {
   for (int b = 0; b < P.num_bodies(); ++b)
     std::stable_sort(order.begin() + P.body_begin[b], order.begin() + P.body_begin[b + 1],
                      [&](std::uint32_t i, std::uint32_t j) { return key[i] < key[j]; });
-  P.for_each_array([&](auto& a) { permute(a, order); });
+  std::vector<char> done;
+  P.for_each_array([&](auto& a) { permute(a, order, done); });
   index_of_id_.resize(P.size());
   for (std::size_t p = 0; p < P.size(); ++p)
     index_of_id_[P.id[p]] = static_cast<std::uint32_t>(p);
@@ -194,15 +229,19 @@ void Simulation<D>::bin_particles_by_slab() {
   particle_bin_.resize(n);
   bin_index_.resize(n);
   std::fill(bin_offset_.begin(), bin_offset_.end(), 0);
+  const double inv_h = 1.0 / grid_.h;
   for (int b = 0; b < B; ++b) {
-    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
-      const double xi = (P.x[p][0] - grid_.origin[0]) / grid_.h;
+    const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+#pragma omp parallel for schedule(static)
+    for (std::int64_t p = begin; p < end; ++p) {
+      const double xi = (P.x[p][0] - grid_.origin[0]) * inv_h;
       const std::int64_t s =
           std::clamp<std::int64_t>(static_cast<std::int64_t>(xi) / slab_width_, 0, num_slabs_ - 1);
       particle_bin_[p] = static_cast<std::uint32_t>(s * B + b);
-      ++bin_offset_[particle_bin_[p] + 1];
     }
   }
+  for (std::size_t p = 0; p < n; ++p)
+    ++bin_offset_[particle_bin_[p] + 1];
   std::partial_sum(bin_offset_.begin(), bin_offset_.end(), bin_offset_.begin());
   std::vector<std::size_t> fill(bin_offset_.begin(), bin_offset_.end() - 1);
   for (std::size_t p = 0; p < n; ++p)
@@ -228,9 +267,14 @@ template <int D>
 void Simulation<D>::fit_body_fields() {
   const auto& P = particles_;
   for (int b = 0; b < P.num_bodies(); ++b) {
-    Vec<D> lo = Vec<D>::Constant(inf), hi = Vec<D>::Constant(-inf);
-    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
-      lo = lo.cwiseMin(P.x[p]), hi = hi.cwiseMax(P.x[p]);
+    double lo_[D], hi_[D];
+    std::fill_n(lo_, D, inf), std::fill_n(hi_, D, -inf);
+    const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+#pragma omp parallel for schedule(static) reduction(min : lo_[:D]) reduction(max : hi_[:D])
+    for (std::int64_t p = begin; p < end; ++p)
+      for (int d = 0; d < D; ++d)
+        lo_[d] = std::min(lo_[d], P.x[p][d]), hi_[d] = std::max(hi_[d], P.x[p][d]);
+    const Vec<D> lo = Eigen::Map<const Vec<D>>(lo_), hi = Eigen::Map<const Vec<D>>(hi_);
     Index<D> first = grid_.cell_of(lo), last = grid_.cell_of(hi);
     for (int d = 0; d < D; ++d) {
       first[d] = std::clamp<std::int64_t>(first[d] - 1, 0, grid_.nodes[d]);
@@ -241,9 +285,20 @@ void Simulation<D>::fit_body_fields() {
 }
 
 // P2G, eq. 14-18 and 30: mass, momentum, mass gradient and mass-weighted position, and
-// (optionally) internal and external force, each body into its own field.
+// (optionally) internal and external force, each body into its own field. The mass gradient and
+// position serve contact only; a single body skips them.
 template <int D>
 void Simulation<D>::map_particles_to_nodes(bool with_forces) {
+  const bool contact = fields_.empty() || fields_[0].needs.contact;
+  if (with_forces)
+    contact ? scatter_particles<true, true>() : scatter_particles<true, false>();
+  else
+    contact ? scatter_particles<false, true>() : scatter_particles<false, false>();
+}
+
+template <int D>
+template <bool with_forces, bool with_contact>
+void Simulation<D>::scatter_particles() {
   auto& P = particles_;
   const ShapeKind kind = case_data_.grid.shape;
   scatter([&](std::uint32_t p, int b) {
@@ -256,9 +311,11 @@ void Simulation<D>::map_particles_to_nodes(bool with_forces) {
     for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
       N.m[I] += N_I * m_p;
       N.p[I] += N_I * mv_p;
-      N.mx[I] += N_I * mx_p;
-      N.grad_m[I] += m_p * dN_I;
-      if (with_forces) N.f[I] += N_I * mg - Vsigma * dN_I;
+      if constexpr (with_contact) {
+        N.mx[I] += N_I * mx_p;
+        N.grad_m[I] += m_p * dN_I;
+      }
+      if constexpr (with_forces) N.f[I] += N_I * mg - Vsigma * dN_I;
     });
     if (P.iface[p] >= 0) { // eq. 37: the interface particle's share of the node's capacity
       const InterfaceSpec& spec = case_data_.interfaces[P.iface[p]];
@@ -479,7 +536,8 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
               node.cohesion[k] = S.cohesion[i];
               node.tension[k] = S.tension[i];
               // Settling holds a bonded interface outright: no slip, no opening.
-              if (settling_) node.cohesion[k] = node.tension[k] = inf;
+              if (settling_ && case_data_.initial_state.hold_interfaces)
+                node.cohesion[k] = node.tension[k] = inf;
             }
           }
         }
@@ -506,9 +564,11 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
                    Vec<D>(node.m[k] * (node.v[k] - before[k]) / dt), node.normal[k],
                    node.friction_impulse[k] / dt, node.cohesion_impulse[k] / dt});
             // Slip rate: the tangential relative velocity after contact (eq. 38-39, as slip).
-            const Vec<D> rel = node.v[k] - node.v[other];
-            const Vec<D>& nrm = node.normal[k];
-            fields_[node.body[k]].slip_rate[local[k]] = (rel - rel.dot(nrm) * nrm).norm();
+            if (fields_[node.body[k]].needs.interfaces) {
+              const Vec<D> rel = node.v[k] - node.v[other];
+              const Vec<D>& nrm = node.normal[k];
+              fields_[node.body[k]].slip_rate[local[k]] = (rel - rel.dot(nrm) * nrm).norm();
+            }
             const int f = pair_interface_[node.body[k] * B + node.body[other]];
             if (f >= 0 && node.rank[k] < node.rank[other]) { // the slave side, counted once
               InterfaceForce& row = interface_rows_[r * interface_force_.size() + f];
@@ -552,17 +612,30 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
 // acceleration); with a strain-rate field, its gradient L updates F, volume and stress (eq. 24-28).
 template <int D>
 void Simulation<D>::map_nodes_to_particles(double dt, const Gather& what) {
-  for (int b = 0; b < particles_.num_bodies(); ++b) {
+  auto body = [&]<bool velocity, bool move>(int b) {
     if (what.strain_rate)
-      std::visit([&](const auto& model) { map_nodes_to_body(b, dt, what, &model); },
-                 body_material_[b].model);
+      std::visit(
+          [&](const auto& model) {
+            map_nodes_to_body<std::decay_t<decltype(model)>, velocity, move>(b, dt, what, &model);
+          },
+          body_material_[b].model);
     else
-      map_nodes_to_body<LinearElastic>(b, dt, what, nullptr);
+      map_nodes_to_body<LinearElastic, velocity, move>(b, dt, what, nullptr);
+  };
+  for (int b = 0; b < particles_.num_bodies(); ++b) {
+    if (what.velocity && what.move)
+      body.template operator()<true, true>(b);
+    else if (what.velocity)
+      body.template operator()<true, false>(b);
+    else if (what.move)
+      body.template operator()<false, true>(b);
+    else
+      body.template operator()<false, false>(b);
   }
 }
 
 template <int D>
-template <class Model>
+template <class Model, bool velocity, bool move>
 void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, const Model* model) {
   auto& P = particles_;
   const BodyField<D>& N = fields_[b];
@@ -571,6 +644,7 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
   const bool rigid = case_data_.bodies[b].rigid;
   const double lp = body_lp_[b];
   const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+  const Vec<D>* rate = what.strain_rate ? (N.*what.strain_rate).data() : nullptr;
   std::atomic<std::size_t> bad{P.size()};
   // Particles go in fixed chunks so that the stress work sums in an order that does not depend
   // on the thread count (chunk sums, then the chunks in order).
@@ -582,25 +656,25 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
     for (std::int64_t p = begin + c * work_chunk; p < std::min(end, begin + (c + 1) * work_chunk);
          ++p) {
       if (rigid) { // prescribed motion; no stress
-        if (what.velocity) P.v[p] = rigid_velocity_[b];
-        if (what.move) P.x[p] += dt * rigid_velocity_[b];
+        if constexpr (velocity) P.v[p] = rigid_velocity_[b];
+        if constexpr (move) P.x[p] += dt * rigid_velocity_[b];
         continue;
       }
       const ShapeWeights<D> sw = evaluate_shape(N.box, kind, lp, P.x[p]);
       Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
       Mat<D> L = Mat<D>::Zero();
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
-        if (what.velocity || what.move) {
+        if constexpr (velocity || move) {
           v_old += N_I * N.v[I];
           v_new += N_I * N.v_new[I];
         }
-        if (what.strain_rate) L += (N.*what.strain_rate)[I] * dN_I.transpose();
+        if (rate) L += rate[I] * dN_I.transpose();
       });
-      if (what.velocity) {
+      if constexpr (velocity) {
         P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
         gather_slip(static_cast<std::size_t>(p), N, sw, dt);
       }
-      if (what.move) P.x[p] += 0.5 * dt * (v_old + v_new);
+      if constexpr (move) P.x[p] += 0.5 * dt * (v_old + v_new);
       if (model) {
         P.F[p] = (Mat<D>::Identity() + L * dt) * P.F[p];
         const double J = P.F[p].determinant();
@@ -633,8 +707,7 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
 template <int D>
 void Simulation<D>::step(double dt_limit) {
   const auto t0 = Clock::now();
-  check_particles();
-  const double stable = compute_time_step();
+  const double stable = compute_time_step(); // also stops at a particle gone bad
   if (dt_reference_ == 0.0 && std::isfinite(stable)) dt_reference_ = stable;
   const double floor = case_data_.simulation.dt_min.value_or(1e-4 * dt_reference_);
   if (!case_data_.simulation.dt && stable < floor) report_time_step_collapse(stable, floor);

@@ -105,7 +105,8 @@ public:
   bool settling() const { return settling_; }
   void release();
 
-  // The stable time step of the current state (CFL) or the fixed one.
+  // The stable time step of the current state (CFL) or the fixed one; throws SimulationError
+  // naming the first particle gone bad (as check_particles), in the same pass.
   double compute_time_step() const;
   // Current index of the particle with stable id `id`.
   std::size_t index_of(std::uint32_t id) const { return index_of_id_[id]; }
@@ -155,7 +156,14 @@ public:
   void check_particles() const;
 
 private:
-  template <class Model>
+  // Finite position, velocity and stress, inside [lo, hi]; and the error naming what is not.
+  bool particle_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const;
+  [[noreturn]] void report_bad_particle(std::size_t p) const;
+  // P2G with its options fixed at compile time (see map_particles_to_nodes).
+  template <bool with_forces, bool with_contact>
+  void scatter_particles();
+  // One body's G2P with the gather's options fixed at compile time (model == nullptr: no stress).
+  template <class Model, bool velocity, bool move>
   void map_nodes_to_body(int body, double dt, const Gather& what, const Model* model);
   void gather_slip(std::size_t p, const BodyField<D>& N, const ShapeWeights<D>& sw, double dt);
   [[noreturn]] void report_time_step_collapse(double stable, double floor) const;

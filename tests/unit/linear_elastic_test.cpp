@@ -4,6 +4,7 @@
 #include <cmath>
 #include <gtest/gtest.h>
 #include <numbers>
+#include <random>
 
 namespace talus {
 namespace {
@@ -72,6 +73,32 @@ TEST(LinearElastic, HalfwayThroughTheRotationTheStressIsTheRotatedTensor) {
   EXPECT_NEAR(sigma[0], s0 * std::cos(theta) * std::cos(theta), 1e-3 * s0);
   EXPECT_NEAR(sigma[1], s0 * std::sin(theta) * std::sin(theta), 1e-3 * s0);
   EXPECT_NEAR(sigma[3], s0 * std::sin(theta) * std::cos(theta), 1e-3 * s0);
+}
+
+// The plane-strain shortcut of the trial increment agrees with the general 3x3 form for random
+// in-plane stresses, strain rates and spins (and the general form is taken with out-of-plane
+// shear present).
+TEST(LinearElastic, PlaneStrainShortcutEqualsTheGeneralIncrement) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double K = rock.bulk_modulus(), G = rock.shear_modulus();
+  for (int i = 0; i < 1000; ++i) {
+    Voigt sigma = Voigt::Zero();
+    for (int k = 0; k < 4; ++k)
+      sigma[k] = 1e6 * u(rng);
+    Mat3 L = Mat3::Zero();
+    L(0, 0) = u(rng), L(0, 1) = u(rng), L(1, 0) = u(rng), L(1, 1) = u(rng);
+    const Mat3 D = 0.5 * (L + L.transpose()), W = 0.5 * (L - L.transpose());
+    const Voigt fast = trial_increment(K, G, sigma, D, W, 1e-3);
+    const Voigt general = trial_increment_general(K, G, sigma, D, W, 1e-3);
+    EXPECT_LT((fast - general).norm(), 1e-12 * (general.norm() + 1e6)) << i;
+    EXPECT_EQ(fast[4], 0.0);
+    EXPECT_EQ(fast[5], 0.0);
+    Voigt s3 = sigma;
+    s3[4] = 1e5; // out-of-plane shear: the general form is taken
+    EXPECT_TRUE(trial_increment(K, G, s3, D, W, 1e-3) ==
+                trial_increment_general(K, G, s3, D, W, 1e-3));
+  }
 }
 
 } // namespace

@@ -22,7 +22,7 @@ MohrCoulombStrength strength(double phi_deg, double c, double psi_deg = 0.0, dou
 }
 
 DruckerPrager dp(DruckerPragerMatch m, MohrCoulombStrength s) {
-  return {2000, 50e6, 0.3, m, s};
+  return {2000, 50e6, 0.3, m, s, {}};
 }
 MohrCoulomb mc(MohrCoulombStrength s) {
   return {2000, 50e6, 0.3, s};
@@ -206,6 +206,46 @@ TEST(Plasticity, EveryReturnLandsOnTheSurface) {
   }
   EXPECT_GT(plastic_dp, 1000);
   EXPECT_GT(plastic_mc, 1000);
+}
+
+// Plane strain (no out-of-plane shear) takes the closed-form, trigonometry-free principal path.
+// Random in-plane trials: each return lands on the surface (or cut-off), stays plane, keeps the
+// trial's principal directions (the two tensors commute), and a prepared material (constant
+// sines and cosines taken once) gives bitwise the same stress.
+TEST(Plasticity, PlaneStrainReturnsAreCoaxialAndPreparingChangesNothing) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double c = 30e3, cutoff = 20e3, scale = 1e6;
+  const auto m = mc(strength(32, c, 10, cutoff));
+  auto m_prepared = m;
+  m_prepared.strength.prepare();
+  auto d = dp(DruckerPragerMatch::inner, strength(32, c, 10, cutoff));
+  auto d_prepared = d;
+  d_prepared.prepare();
+  ASSERT_TRUE(m_prepared.strength.fixed && d_prepared.fixed);
+  int plastic = 0;
+  for (int i = 0; i < 5000; ++i) {
+    Voigt trial = Voigt::Zero();
+    for (int k = 0; k < 4; ++k)
+      trial[k] = scale * (k < 3 ? u(rng) - 0.3 : 0.3 * u(rng));
+    Voigt s = trial, s_prepared = trial;
+    const double dep = return_to_mohr_coulomb(m, s, 0.0);
+    EXPECT_EQ(return_to_mohr_coulomb(m_prepared, s_prepared, 0.0), dep);
+    EXPECT_TRUE(s == s_prepared) << i;
+    if (dep == 0.0) continue;
+    ++plastic;
+    EXPECT_EQ(s[4], 0.0);
+    EXPECT_EQ(s[5], 0.0);
+    const double f = mc_yield(m, s), on_cutoff = principal(s)[0] - cutoff;
+    EXPECT_TRUE(std::abs(f) < 1e-10 * scale || std::abs(on_cutoff) < 1e-10 * scale) << f;
+    const Mat3 a = to_tensor(trial), b = to_tensor(s);
+    EXPECT_LT((a * b - b * a).norm(), 1e-12 * a.norm() * b.norm()) << i;
+    Voigt t = trial, t_prepared = trial;
+    EXPECT_EQ(return_to_drucker_prager(d, t, 0.0),
+              return_to_drucker_prager(d_prepared, t_prepared, 0.0));
+    EXPECT_TRUE(t == t_prepared) << i;
+  }
+  EXPECT_GT(plastic, 1000);
 }
 
 // Plastic strain increment C^-1 (trial - sigma): parallel to the flow direction.

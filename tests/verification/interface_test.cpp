@@ -82,31 +82,40 @@ TEST(CohesiveBlock, SlidesWithTheClosedFormAndItsForces) {
 }
 
 // Held: mu = 0.5 and c = 2 kPa give c A + mu m g cos(theta) = 10495 N >= m g sin(theta) = 9810 N.
-// The closed form (a rigid block) does not move at all. Started unstressed, the elastic block
-// loads the interface dynamically and its ringing lets it slip 1.2 mm in the first 0.25 s (the
-// normal force, hence the capacity, dips); so it starts from equilibrium, as a held block is:
-// 0.3 s of damped settling with the interface held, then release. The issue asks for < 1e-4 m in
-// 2 s: measured, the centroid moves 1.15e-4 m (the undamped block rings at about 1 mm/s and
-// ratchets 1e-5 m per 0.25 s) and the upslope corner's interface particles 0.84 mm: a miss by
-// 15 % (docs/verification.md), down from 2.4 mm without the settling. Asserted: the bond holds
-// the block to 1e-4 of the unbonded motion (which is over a metre).
+// The closed form (a rigid block) does not move at all. The elastic block is not uniformly loaded:
+// the weight's moment about the base unloads the upslope end, where the local traction exceeds
+// the local bond and the interface slips a little until the load moves downslope. A held block
+// has done that before the clock starts: it settles 0.3 s (damped) with its interface at its own
+// strength (initial_state.hold_interfaces = false; nothing degrades while settling), then is
+// released and must move less than 1e-4 m in 2 s (the issue's figure). With the interface held
+// outright while settling, that partial slip happens after release instead: 1.1e-4 m, recorded
+// here and in docs/verification.md. Started unstressed with no settling it is 2.4 mm.
 TEST(CohesiveBlock, HeldByCohesionStaysPut) {
   const std::vector<std::string> held = {
-      "interface.0.friction.initial=0.5", "interface.0.friction.residual=0.5",
+      "interface.0.friction.initial=0.5",  "interface.0.friction.residual=0.5",
       "interface.0.cohesion.initial=2000", "interface.0.cohesion.residual=2000",
-      "initial_state.settle_time=0.3"};
+      "initial_state.settle_time=0.3",     "initial_state.hold_interfaces=false"};
   const BlockRun r = run_block(held, {2.0});
+  std::vector<std::string> held_outright = held;
+  held_outright.back() = "initial_state.hold_interfaces=true";
+  const BlockRun outright = run_block(held_outright, {2.0});
   std::vector<std::string> unbonded_case = held;
   unbonded_case.push_back("interface.0.cohesion.initial=0");
   unbonded_case.push_back("interface.0.cohesion.residual=0");
   const BlockRun unbonded = run_block(unbonded_case, {2.0});
   const double exact = 0.5 * g * (std::sin(theta) - 0.5 * std::cos(theta)) * 4.0;
-  std::printf(
-      "held block: centroid moved %.3e m and interface particles at most %.3e m in 2 s after "
-      "release; without cohesion the block slides %.4f m (closed form %.4f)\n",
-      r.x[0], r.max_interface_slip, unbonded.x[0], exact);
-  EXPECT_LT(std::abs(r.x[0]), 1e-4 * unbonded.x[0]);
-  EXPECT_LT(r.max_interface_slip, 1e-3 * unbonded.x[0]);
+  std::printf("held block: centroid moved %.3e m and interface particles at most %.3e m in 2 s "
+              "after release (settled with the interface held outright: %.3e m); without "
+              "cohesion the block slides %.4f m (closed form %.4f)\n",
+              r.x[0], r.max_interface_slip, outright.x[0], unbonded.x[0], exact);
+  EXPECT_LT(std::abs(r.x[0]), 1e-4);
+  // Locally the base row creeps more than the block: 0.65 mm at the upslope corner particle and
+  // 0.1-0.4 mm over the downslope quarter, 1e-5 m in the middle (docs/verification.md). Bounded
+  // here so that it cannot grow unnoticed; not the issue's criterion, which is the block's.
+  EXPECT_LT(r.max_interface_slip, 1e-3);
+  // The partial slip, when it comes after release: about the block's elastic shear scale
+  // (m g sin / (G A) x h / 2 = 1.3e-4 m), far below any sliding.
+  EXPECT_LT(std::abs(outright.x[0]), 3e-4);
   // Unbonded, mu = 0.5 near tan(theta): recorded in docs/verification.md, not asserted here.
   EXPECT_GT(unbonded.x[0], 0.5 * exact);
 }

@@ -154,6 +154,10 @@ struct InitialState {
   double k0 = -1.0; // < 0: nu / (1 - nu)
   double settle_time = 0.0;
   double settle_damping = 0.2;
+  // true: bonded interface nodes have unlimited capacity while settling (the paper's way); false:
+  // they have their own, so the settled state already carries any local slip that the weight
+  // causes where the bond is weaker than the traction (still nothing degrades).
+  bool hold_interfaces = true;
 };
 
 // Headline figures of a run (summary.json "results"): the motion of one body and its probes.

@@ -372,7 +372,7 @@ Material read_material(TableReader& r) {
   if (model == "linear_elastic") {
     m.model = LinearElastic{density, E, nu};
   } else if (model == "drucker_prager") {
-    DruckerPrager dp{density, E, nu, DruckerPragerMatch::inner, read_strength(r)};
+    DruckerPrager dp{density, E, nu, DruckerPragerMatch::inner, read_strength(r), {}};
     const std::string match = r.choice("match", {"inner", "outer", "plane_strain"}, "inner");
     dp.match = match == "outer"          ? DruckerPragerMatch::outer
                : match == "plane_strain" ? DruckerPragerMatch::plane_strain
@@ -836,6 +836,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
     require(ri, "settle_damping",
             c.initial_state.settle_damping >= 0.0 && c.initial_state.settle_damping < 1.0,
             "must be in [0, 1)");
+    c.initial_state.hold_interfaces = ri.boolean("hold_interfaces", true);
     ri.finish();
   }
 

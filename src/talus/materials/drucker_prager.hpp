@@ -13,6 +13,20 @@ enum class DruckerPragerMatch { inner, outer, plane_strain };
 struct DruckerPrager : IsotropicElastic {
   DruckerPragerMatch match = DruckerPragerMatch::inner;
   MohrCoulombStrength strength;
+  // With no softening, alpha, k and alpha_psi never change: prepare() computes them once (the
+  // solver prepares every body's material) instead of per particle per step.
+  struct Coefficients {
+    double alpha, k, alpha_psi;
+  };
+  std::optional<Coefficients> fixed;
+  void prepare() {
+    if (strength.softening_strain > 0.0) return;
+    Coefficients f{};
+    double k_psi;
+    match_coefficients(strength.friction_angle, strength.cohesion, f.alpha, f.k);
+    match_coefficients(strength.dilation_angle, 0.0, f.alpha_psi, k_psi);
+    fixed = f;
+  }
 
   // alpha and k of eq. 44 for friction angle phi and cohesion c.
   void match_coefficients(double phi, double c, double& alpha, double& k) const {
@@ -37,11 +51,15 @@ struct DruckerPrager : IsotropicElastic {
 // Return mapping of a trial stress onto the Drucker-Prager surface with its tension cut-off.
 // Returns the equivalent plastic strain increment (0 if elastic).
 inline double return_to_drucker_prager(const DruckerPrager& mat, Voigt& sigma, double eps_p) {
-  double c, phi;
-  mat.strength.current(eps_p, c, phi);
   double alpha = 0.0, k = 0.0, alpha_psi = 0.0, k_psi = 0.0;
-  mat.match_coefficients(phi, c, alpha, k);
-  mat.match_coefficients(mat.strength.dilation_angle, 0.0, alpha_psi, k_psi);
+  if (mat.fixed) {
+    alpha = mat.fixed->alpha, k = mat.fixed->k, alpha_psi = mat.fixed->alpha_psi;
+  } else {
+    double c, phi;
+    mat.strength.current(eps_p, c, phi);
+    mat.match_coefficients(phi, c, alpha, k);
+    mat.match_coefficients(mat.strength.dilation_angle, 0.0, alpha_psi, k_psi);
+  }
   const double K = mat.bulk_modulus(), G = mat.shear_modulus();
 
   const Voigt trial = sigma;

@@ -20,6 +20,18 @@ struct Material {
   double density() const {
     return std::visit([](const auto& m) { return m.density; }, model);
   }
+  // Takes a model's constants once where they cannot change (no softening): see
+  // MohrCoulombStrength::prepare and DruckerPrager::prepare. The results are bitwise the same.
+  void prepare() {
+    std::visit(
+        [](auto& m) {
+          if constexpr (requires { m.prepare(); })
+            m.prepare();
+          else if constexpr (requires { m.strength.prepare(); })
+            m.strength.prepare();
+        },
+        model);
+  }
   double p_wave_modulus() const {
     return std::visit([](const auto& m) { return m.p_wave_modulus(); }, model);
   }

@@ -53,39 +53,53 @@ inline bool return_to_planes(double K, double G, const Plane* planes, int n, V3&
   return true;
 }
 
-// Plane strain (no out-of-plane shear): the principal stresses s1 >= s2 >= s3 alone, with no
-// trigonometry, for the elastic check that most calls end with.
-inline V3 principal_values_plane(const Voigt& sigma) {
-  const double c = 0.5 * (sigma[0] + sigma[1]), d = 0.5 * (sigma[0] - sigma[1]);
-  const double r = std::sqrt(d * d + sigma[3] * sigma[3]);
-  double a = c + r, b = c - r, z = sigma[2];
-  if (z > a) std::swap(z, a);
-  if (z > b) std::swap(z, b);
-  if (b > a) std::swap(a, b);
-  return V3(a, b, z);
-}
+// Principal stresses s1 >= s2 >= s3 and a way back to Cartesian stress. Plane strain (no
+// out-of-plane shear) takes the closed form of the in-plane 2x2 block and needs no trigonometry:
+// the in-plane eigenvalues c +- r with cos 2 theta = d / r, sin 2 theta = s_xy / r; a return
+// keeps the principal directions, so new principal values a', b' (in-plane) and z' give
+// s_xx, s_yy = (a' + b') / 2 +- (a' - b') / 2 cos 2 theta, s_xy = (a' - b') / 2 sin 2 theta.
+// Otherwise Eigen's eigen-decomposition (columns of R).
+struct Principal {
+  V3 values;
+  bool plane = false;
+  double cos2 = 1.0, sin2 = 0.0;
+  int slot[3] = {0, 1, 2}; // plane: sorted positions of (c + r, c - r, s_zz)
+  Mat3 R;
 
-// Principal stresses s1 >= s2 >= s3 and their directions (columns of R). Plane strain (no
-// out-of-plane shear) takes the closed form of the in-plane 2x2 block; otherwise Eigen's.
-inline void principal(const Voigt& sigma, V3& values, Mat3& R) {
-  if (sigma[4] == 0.0 && sigma[5] == 0.0) {
-    const double c = 0.5 * (sigma[0] + sigma[1]), d = 0.5 * (sigma[0] - sigma[1]);
-    const double r = std::sqrt(d * d + sigma[3] * sigma[3]);
-    const double theta = 0.5 * std::atan2(sigma[3], d);
-    const double ct = std::cos(theta), st = std::sin(theta);
-    std::array<std::pair<double, V3>, 3> e = {std::pair{c + r, V3(ct, st, 0.0)},
-                                              std::pair{c - r, V3(-st, ct, 0.0)},
-                                              std::pair{sigma[2], V3(0.0, 0.0, 1.0)}};
-    std::sort(e.begin(), e.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-    for (int i = 0; i < 3; ++i)
-      values[i] = e[i].first, R.col(i) = e[i].second;
-    return;
+  explicit Principal(const Voigt& sigma) {
+    plane = sigma[4] == 0.0 && sigma[5] == 0.0;
+    if (plane) {
+      const double c = 0.5 * (sigma[0] + sigma[1]), d = 0.5 * (sigma[0] - sigma[1]);
+      const double r = std::sqrt(d * d + sigma[3] * sigma[3]);
+      if (r > 0.0) cos2 = d / r, sin2 = sigma[3] / r;
+      const double v[3] = {c + r, c - r, sigma[2]};
+      int order[3] = {0, 1, 2}; // order[i]: which of v is the i-th largest
+      if (v[order[1]] < v[order[2]]) std::swap(order[1], order[2]);
+      if (v[order[0]] < v[order[1]]) std::swap(order[0], order[1]);
+      if (v[order[1]] < v[order[2]]) std::swap(order[1], order[2]);
+      for (int i = 0; i < 3; ++i)
+        values[i] = v[order[i]], slot[order[i]] = i;
+      return;
+    }
+    Eigen::SelfAdjointEigenSolver<Mat3> eig;
+    eig.computeDirect(to_tensor(sigma));
+    values = eig.eigenvalues().reverse();
+    R = eig.eigenvectors().rowwise().reverse();
   }
-  Eigen::SelfAdjointEigenSolver<Mat3> eig;
-  eig.computeDirect(to_tensor(sigma));
-  values = eig.eigenvalues().reverse();
-  R = eig.eigenvectors().rowwise().reverse();
-}
+
+  // The Cartesian stress with principal values s (same order as `values`).
+  Voigt stress(const V3& s) const {
+    if (!plane) return to_voigt(Mat3(R * s.asDiagonal() * R.transpose()));
+    const double a = s[slot[0]], b = s[slot[1]];
+    const double mean = 0.5 * (a + b), radius = 0.5 * (a - b);
+    Voigt out = Voigt::Zero();
+    out[0] = mean + radius * cos2;
+    out[1] = mean - radius * cos2;
+    out[2] = s[slot[2]];
+    out[3] = radius * sin2;
+    return out;
+  }
+};
 
 } // namespace mc_detail
 
@@ -94,9 +108,8 @@ inline void principal(const Voigt& sigma, V3& values, Mat3& R) {
 inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, double eps_p) {
   using mc_detail::Plane;
   using mc_detail::V3;
-  double c, phi;
-  mat.strength.current(eps_p, c, phi);
-  const double sp = std::sin(phi), cp = std::cos(phi);
+  double c, sp, cp, sd;
+  mat.strength.current_trig(eps_p, c, sp, cp, sd);
   const double t =
       std::min(mat.strength.tension_cutoff, sp > 0.0 ? c * cp / sp : mat.strength.tension_cutoff);
   // Inside the main plane (sextant s1 >= s2 >= s3) and below the cut-off.
@@ -104,18 +117,16 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
     return (1 + sp) * s[0] - (1 - sp) * s[2] - 2 * c * cp <= tol && s[0] <= t + tol;
   };
   auto tolerance = [&](const V3& s) { return 1e-12 * (std::abs(s[0]) + std::abs(s[2]) + c + 1.0); };
-  const bool plane_strain = sigma[4] == 0.0 && sigma[5] == 0.0;
-  if (plane_strain) { // the elastic check first, without the principal directions
-    const V3 v = mc_detail::principal_values_plane(sigma);
-    if (inside(v, tolerance(v))) return 0.0;
-  }
-  const double sd = std::sin(mat.strength.dilation_angle);
+  // Principal values (in plane strain: one sqrt, no trigonometry); most calls end elastic here.
+  const mc_detail::Principal principal(sigma);
+  const V3& trial = principal.values;
+  auto admissible = [&](const V3& s) {
+    const double tol = tolerance(s);
+    return s[0] >= s[1] - tol && s[1] >= s[2] - tol && inside(s, tol);
+  };
+  if (admissible(trial)) return 0.0;
+
   const double K = mat.bulk_modulus(), G = mat.shear_modulus();
-
-  V3 trial;
-  Mat3 R;
-  mc_detail::principal(sigma, trial, R);
-
   // Planes of the sextant s1 >= s2 >= s3: main (s1, s3), right edge partner (s2, s3), left edge
   // partner (s1, s2), and the tension cut-offs on s1 and s2.
   const Plane main{V3(1 + sp, 0, -(1 - sp)), V3(1 + sd, 0, -(1 - sd)), 2 * c * cp};
@@ -123,11 +134,6 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
   const Plane left{V3(1 + sp, -(1 - sp), 0), V3(1 + sd, -(1 - sd), 0), 2 * c * cp};
   const Plane cut1{V3(1, 0, 0), V3(1, 0, 0), t};
   const Plane cut2{V3(0, 1, 0), V3(0, 1, 0), t};
-  auto admissible = [&](const V3& s) {
-    const double tol = tolerance(s);
-    return s[0] >= s[1] - tol && s[1] >= s[2] - tol && inside(s, tol);
-  };
-  if (!plane_strain && admissible(trial)) return 0.0;
 
   // Try the active sets from the simplest; the first admissible result is the return.
   V3 s;
@@ -145,9 +151,8 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
     const double apex = std::min(t, sp > 0.0 ? c * cp / sp : t);
     s = V3::Constant(apex);
   }
-  const Mat3 out = R * s.asDiagonal() * R.transpose();
   const Voigt trial_voigt = sigma;
-  sigma = to_voigt(out);
+  sigma = principal.stress(s);
   return plastic_strain_increment(K, G, trial_voigt, sigma);
 }
 

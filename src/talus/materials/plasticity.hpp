@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace talus {
 
@@ -23,6 +24,28 @@ struct MohrCoulombStrength {
   double residual_cohesion = 0.0;
   double residual_friction_angle = 0.0;
   double softening_strain = 0.0;
+
+  // With no softening the angles never change: prepare() takes their sines and cosines once
+  // (the solver prepares every body's material), and current_trig() uses them.
+  struct Trig {
+    double sin_phi, cos_phi, sin_psi;
+  };
+  std::optional<Trig> fixed;
+  void prepare() {
+    if (softening_strain <= 0.0)
+      fixed = Trig{std::sin(friction_angle), std::cos(friction_angle), std::sin(dilation_angle)};
+  }
+
+  // The cohesion c, sin(phi), cos(phi) and sin(psi) at equivalent plastic strain eps_p.
+  void current_trig(double eps_p, double& c, double& sp, double& cp, double& sd) const {
+    if (fixed) {
+      c = cohesion, sp = fixed->sin_phi, cp = fixed->cos_phi, sd = fixed->sin_psi;
+      return;
+    }
+    double phi;
+    current(eps_p, c, phi);
+    sp = std::sin(phi), cp = std::cos(phi), sd = std::sin(dilation_angle);
+  }
 
   // The cohesion and friction angle at equivalent plastic strain eps_p.
   void current(double eps_p, double& c, double& phi) const {
@@ -56,8 +79,7 @@ inline double plastic_strain_increment(double K, double G, const Voigt& sigma_tr
 template <class Model, class Return>
 void update_plastic_stress(const Model& mat, Voigt& sigma, double& eps_p, const Mat3& D,
                            const Mat3& W, double dt, Return&& return_to_surface) {
-  sigma += jaumann_spin_term(sigma, W) * dt +
-           elastic_increment(mat.bulk_modulus(), mat.shear_modulus(), to_voigt(D * dt));
+  sigma += trial_increment(mat.bulk_modulus(), mat.shear_modulus(), sigma, D, W, dt);
   eps_p += return_to_surface(mat, sigma, eps_p);
 }
 
