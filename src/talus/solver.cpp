@@ -125,6 +125,15 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   bin_offset_.assign(static_cast<std::size_t>(num_slabs_ * B + 1), 0);
 }
 
+// The P-wave speed of particle p at its current density, sqrt(M V / m). It grows as sqrt(J): a
+// particle's internal force scales with its current volume, so its stiffness over its mass does
+// too (capping J here was tried and blows up: docs/performance.md).
+template <int D>
+double Simulation<D>::wave_speed(std::int64_t p, double modulus) const {
+  const auto& P = particles_;
+  return std::sqrt(modulus * P.vol[p] / P.m[p]);
+}
+
 // One pass over the particles: the stable time step (CFL on the P-wave speed plus the particle
 // speed) and the check for a particle gone bad (see check_particles), which it reports.
 template <int D>
@@ -139,8 +148,7 @@ double Simulation<D>::compute_time_step() const {
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
 #pragma omp parallel for reduction(max : max_speed) schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
-      const double c = std::sqrt(modulus * P.vol[p] / P.m[p]);
-      max_speed = std::max(max_speed, c + P.v[p].norm());
+      max_speed = std::max(max_speed, wave_speed(p, modulus) + P.v[p].norm());
       if (!particle_ok(p, lo, hi)) record_bad(bad, static_cast<std::size_t>(p));
     }
   }
@@ -159,7 +167,7 @@ void Simulation<D>::report_time_step_collapse(double stable, double floor) const
   for (int b = 0; b < P.num_bodies(); ++b) {
     const double modulus = case_data_.bodies[b].rigid ? 0.0 : body_material_[b].p_wave_modulus();
     for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
-      const double speed = std::sqrt(modulus * P.vol[p] / P.m[p]) + P.v[p].norm();
+      const double speed = wave_speed(p, modulus) + P.v[p].norm();
       if (speed > worst_speed) worst_speed = speed, worst = p;
     }
   }

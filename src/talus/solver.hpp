@@ -156,6 +156,7 @@ public:
   void check_particles() const;
 
 private:
+  double wave_speed(std::int64_t p, double modulus) const;
   // Finite position, velocity and stress, inside [lo, hi]; and the error naming what is not.
   bool particle_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const;
   [[noreturn]] void report_bad_particle(std::size_t p) const;
