@@ -9,7 +9,9 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <limits>
+#ifdef __GLIBC__
 #include <malloc.h>
+#endif
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
@@ -49,7 +51,9 @@ Rss read_rss() {
 // problem's peak is its own. Without it the peak is the process's so far (an over-estimate).
 // The heap freed by the previous problem goes back to the system first (glibc's malloc_trim).
 void reset_peak_rss() {
+#ifdef __GLIBC__
   malloc_trim(0);
+#endif
   std::ofstream("/proc/self/clear_refs") << "5";
 }
 

@@ -19,7 +19,8 @@ struct DruckerPrager : IsotropicElastic {
     double alpha, k, alpha_psi;
   };
   std::optional<Coefficients> fixed;
-  void prepare() {
+  void prepare() { // call last: it snapshots the current strength and matching
+    fixed.reset();
     if (strength.softening_strain > 0.0) return;
     Coefficients f{};
     double k_psi;

@@ -31,7 +31,8 @@ struct MohrCoulombStrength {
     double sin_phi, cos_phi, sin_psi;
   };
   std::optional<Trig> fixed;
-  void prepare() {
+  void prepare() { // call last: it snapshots the current angles
+    fixed.reset();
     if (softening_strain <= 0.0)
       fixed = Trig{std::sin(friction_angle), std::cos(friction_angle), std::sin(dilation_angle)};
   }
