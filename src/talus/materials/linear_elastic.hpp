@@ -42,8 +42,8 @@ inline Voigt trial_increment_general(double K, double G, const Voigt& sigma, con
 
 // The same, with plane strain's zeros (no out-of-plane shear in D, W or sigma) written out: the
 // spin is the single w = W_xy and the increment has four components. W must be skew (the solver
-// passes (L - L^T) / 2). Equal to the general form
-// to round-off (a unit test checks), at a fraction of its 3x3 products.
+// passes (L - L^T) / 2). Equal to the general form to round-off (a unit test checks), at a
+// fraction of its 3x3 products.
 inline Voigt trial_increment(double K, double G, const Voigt& sigma, const Mat3& D, const Mat3& W,
                              double dt) {
   const bool plane = sigma[4] == 0.0 && sigma[5] == 0.0 && D(0, 2) == 0.0 && D(1, 2) == 0.0 &&
