@@ -309,9 +309,11 @@ template <bool with_forces, bool with_contact>
 void Simulation<D>::scatter_particles() {
   auto& P = particles_;
   const ShapeKind kind = case_data_.grid.shape;
+  shape_.resize(P.size());
+  shape_step_ = steps_;
   scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[b];
-    const ShapeWeights<D> sw = evaluate_shape(N.box, kind, body_lp_[b], P.x[p]);
+    const ShapeWeights<D>& sw = shape_[p] = evaluate_shape(N.box, kind, body_lp_[b], P.x[p]);
     const double m_p = P.m[p];
     const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
@@ -343,10 +345,10 @@ void Simulation<D>::scatter_particles() {
 template <int D>
 void Simulation<D>::map_forces_to_nodes() {
   auto& P = particles_;
-  const ShapeKind kind = case_data_.grid.shape;
+  assert_shape_current();
   scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[b];
-    const ShapeWeights<D> sw = evaluate_shape(N.box, kind, body_lp_[b], P.x[p]);
+    const ShapeWeights<D>& sw = shape_[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
     const Vec<D> mg = P.m[p] * gravity_;
     for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
@@ -377,13 +379,13 @@ void Simulation<D>::gather_slip(std::size_t p, const BodyField<D>& N, const Shap
 template <int D>
 void Simulation<D>::update_velocities_and_remap(double dt) {
   auto& P = particles_;
-  const ShapeKind kind = case_data_.grid.shape;
   const double flip = case_data_.simulation.flip;
+  assert_shape_current();
   for (auto& N : fields_)
     std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
   scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[b];
-    const ShapeWeights<D> sw = evaluate_shape(N.box, kind, body_lp_[b], P.x[p]);
+    const ShapeWeights<D>& sw = shape_[p];
     if (case_data_.bodies[b].rigid) {
       P.v[p] = rigid_velocity_[b];
     } else {
@@ -640,6 +642,7 @@ void Simulation<D>::map_nodes_to_particles(double dt, const Gather& what) {
     else
       body.template operator()<false, false>(b);
   }
+  if (what.move) shape_step_ = -1; // the weights are of the old positions
 }
 
 template <int D>
@@ -647,10 +650,10 @@ template <class Model, bool velocity, bool move>
 void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, const Model* model) {
   auto& P = particles_;
   const BodyField<D>& N = fields_[b];
-  const ShapeKind kind = case_data_.grid.shape;
   const double flip = case_data_.simulation.flip;
   const bool rigid = case_data_.bodies[b].rigid;
-  const double lp = body_lp_[b];
+  assert_shape_current();
+  const double max_J = body_material_[b].max_volume_ratio;
   const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
   const Vec<D>* rate = what.strain_rate ? (N.*what.strain_rate).data() : nullptr;
   std::atomic<std::size_t> bad{P.size()};
@@ -668,7 +671,7 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
         if constexpr (move) P.x[p] += dt * rigid_velocity_[b];
         continue;
       }
-      const ShapeWeights<D> sw = evaluate_shape(N.box, kind, lp, P.x[p]);
+      const ShapeWeights<D>& sw = shape_[p];
       Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
       Mat<D> L = Mat<D>::Zero();
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
@@ -685,8 +688,12 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
       if constexpr (move) P.x[p] += 0.5 * dt * (v_old + v_new);
       if (model) {
         P.F[p] = (Mat<D>::Identity() + L * dt) * P.F[p];
-        const double J = P.F[p].determinant();
+        double J = P.F[p].determinant();
         if (!(J > 0.0)) record_bad(bad, static_cast<std::size_t>(p));
+        if (J > max_J) { // past the volume limit the opening is separation, not the particle's
+          P.F[p] *= std::pow(max_J / J, 1.0 / D);
+          J = max_J;
+        }
         const double vol_old = P.vol[p];
         P.vol[p] = P.vol0[p] * J;
         const Mat3 L3 = embed<D>(L);

@@ -168,6 +168,11 @@ private:
   void map_nodes_to_body(int body, double dt, const Gather& what, const Model* model);
   void gather_slip(std::size_t p, const BodyField<D>& N, const ShapeWeights<D>& sw, double dt);
   [[noreturn]] void report_time_step_collapse(double stable, double floor) const;
+  // The transfers after the step's first P2G read its shape weights: they must be current.
+  void assert_shape_current() const {
+    if (shape_step_ != steps_ || shape_.size() != particles_.size())
+      throw std::logic_error("a transfer ran before the P2G that evaluates its shape weights");
+  }
   void impose_rigid_velocity(std::vector<Vec<D>> BodyField<D>::*velocity);
   // Calls f(p, body) for every particle, slab colour by slab colour, so that no two threads
   // write one node and every node sums its particles in one fixed order (thread-count independent).
@@ -211,6 +216,10 @@ private:
   std::vector<double> contact_work_, internal_work_, strain_energy0_; // per body, since release
   static constexpr std::int64_t work_chunk = 1024; // particles per chunk of the stress work sum
   std::vector<double> chunk_work_;
+  // Each particle's shape weights at its current position, evaluated by the step's first P2G and
+  // read by every later transfer of the step (the particles move only in the last one).
+  std::vector<ShapeWeights<D>> shape_;
+  std::int64_t shape_step_ = -1; // the step whose positions shape_ holds
 
   double time_ = 0.0;
   double dt_ = 0.0;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <memory>
 #include <random>
 #ifdef _OPENMP
 #include <omp.h>
@@ -120,6 +121,45 @@ TEST(TimeStep, DilatedParticleSetsTheStep) {
   EXPECT_NEAR(dt0, 0.4 * 0.1 / c0, 1e-12);
   sim.particles_mut().vol[7] *= 5.0;
   EXPECT_NEAR(sim.compute_time_step(), dt0 / std::sqrt(5.0), 1e-12);
+}
+
+// material.max_volume_ratio: a particle stretched past the limit keeps J = limit, its deformation
+// gradient scaled back isotropically (its shape, F / sqrt(J), and its stress are those of the
+// unlimited run); a particle below the limit is untouched.
+TEST(VolumeLimit, StretchedParticlesKeepTheLimitAndTheirShape) {
+  auto stretch = [](const std::string& limit) {
+    std::string text = block_case<2>("gimp", "usf", 1.0);
+    text.replace(text.find("poisson_ratio = 0.3"), 19, "poisson_ratio = 0.3\n" + limit);
+    auto sim = std::make_unique<Simulation<2>>(test::case_from(text));
+    auto& P = sim->particles_mut();
+    for (std::size_t p = 0; p < P.size(); ++p) // opens along x, fastest at the right end
+      P.v[p] = Vec<2>(2.0 * (P.x[p][0] - 0.2) * (P.x[p][0] - 0.2), 0.1 * P.x[p][0]);
+    sim->bin_particles_by_slab();
+    sim->fit_body_fields();
+    sim->map_particles_to_nodes(false);
+    sim->compute_node_velocities(0.0);
+    sim->map_nodes_to_particles(0.2, {.strain_rate = &BodyField<2>::v});
+    return sim;
+  };
+  const auto free = stretch(""), limited = stretch("max_volume_ratio = 1.2");
+  const auto &U = free->particles(), &C = limited->particles();
+  int above = 0, below = 0;
+  for (std::size_t p = 0; p < U.size(); ++p) {
+    const double J = U.F[p].determinant();
+    ASSERT_TRUE(U.stress[p] == C.stress[p]) << p;
+    if (J > 1.2) {
+      ++above;
+      EXPECT_NEAR(C.F[p].determinant(), 1.2, 1e-12) << p;
+      EXPECT_NEAR(C.vol[p], 1.2 * C.vol0[p], 1e-12 * C.vol0[p]) << p;
+      EXPECT_LT((C.F[p] / std::sqrt(1.2) - U.F[p] / std::sqrt(J)).norm(), 1e-12) << p;
+    } else {
+      ++below;
+      ASSERT_TRUE(C.F[p] == U.F[p]) << p;
+      ASSERT_EQ(C.vol[p], U.vol[p]) << p;
+    }
+  }
+  EXPECT_GT(above, 10);
+  EXPECT_GT(below, 10);
 }
 
 #ifdef _OPENMP

@@ -381,6 +381,8 @@ Material read_material(TableReader& r) {
   } else {
     m.model = MohrCoulomb{density, E, nu, read_strength(r)};
   }
+  m.max_volume_ratio = r.number("max_volume_ratio", inf);
+  require(r, "max_volume_ratio", m.max_volume_ratio > 1.0, "must be > 1");
   return m;
 }
 

@@ -6,6 +6,7 @@
 #include "talus/materials/linear_elastic.hpp"
 #include "talus/materials/mohr_coulomb.hpp"
 
+#include <limits>
 #include <string>
 #include <variant>
 
@@ -16,6 +17,11 @@ using MaterialModel = std::variant<LinearElastic, DruckerPrager, MohrCoulomb>;
 struct Material {
   std::string name;
   MaterialModel model;
+  // The largest volume ratio J = V / V0 a particle of this material keeps (infinity: no limit).
+  // Stretched past it, the particle's deformation gradient is scaled back isotropically: the
+  // further opening is separation between particles (cracks, voids), not the particle's own
+  // volume. See docs/formulation.md, "Volume limit".
+  double max_volume_ratio = std::numeric_limits<double>::infinity();
 
   double density() const {
     return std::visit([](const auto& m) { return m.density; }, model);
