@@ -77,6 +77,7 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     body_material_.push_back(c.materials[b.material]);
     body_material_.back().prepare();
     body_lp_.push_back(0.5 * c.grid.cell_size / b.particles_per_cell);
+    body_gimp_.emplace_back(c.grid.cell_size, body_lp_.back());
     Vec<D> v;
     for (int d = 0; d < D; ++d)
       v[d] = b.velocity[d];
@@ -313,7 +314,7 @@ void Simulation<D>::scatter_particles() {
   shape_step_ = steps_;
   scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[b];
-    const ShapeWeights<D>& sw = shape_[p] = evaluate_shape(N.box, kind, body_lp_[b], P.x[p]);
+    const ShapeWeights<D>& sw = shape_[p] = evaluate_shape(N.box, kind, body_gimp_[b], P.x[p]);
     const double m_p = P.m[p];
     const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
@@ -374,8 +375,9 @@ void Simulation<D>::gather_slip(std::size_t p, const BodyField<D>& N, const Shap
 }
 
 // MUSL's middle: each particle takes the FLIP/PIC velocity of the contact-corrected grid (and
-// its slip), then its new momentum is scattered for the re-mapped velocity. One coloured pass
-// does both with one shape evaluation: the gather reads v and v_new, the scatter writes p.
+// its slip) and moves, then its new momentum is scattered for the re-mapped velocity. One
+// coloured pass does all three: the gather reads v and v_new, the scatter writes p. The stress
+// pass that follows reads the weights of the step's start (shape_), so moving here is safe.
 template <int D>
 void Simulation<D>::update_velocities_and_remap(double dt) {
   auto& P = particles_;
@@ -388,6 +390,7 @@ void Simulation<D>::update_velocities_and_remap(double dt) {
     const ShapeWeights<D>& sw = shape_[p];
     if (case_data_.bodies[b].rigid) {
       P.v[p] = rigid_velocity_[b];
+      P.x[p] += dt * rigid_velocity_[b];
     } else {
       Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
@@ -395,6 +398,7 @@ void Simulation<D>::update_velocities_and_remap(double dt) {
         v_new += N_I * N.v_new[I];
       });
       P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
+      P.x[p] += 0.5 * dt * (v_old + v_new);
       gather_slip(p, N, sw, dt);
     }
     const Vec<D> mv_p = P.m[p] * P.v[p];
@@ -764,10 +768,10 @@ void Simulation<D>::step(double dt_limit) {
     timed(T.contact, [&] { apply_contact(&F::v_new, dt_, true); });
     timed(T.g2p, [&] { update_velocities_and_remap(dt_); });
     timed(T.contact, [&] { apply_contact(&F::v_remap, dt_, false); });
-    timed(T.stress,
-          [&] { map_nodes_to_particles(dt_, {.move = true, .strain_rate = &F::v_remap}); });
+    timed(T.stress, [&] { map_nodes_to_particles(dt_, {.strain_rate = &F::v_remap}); });
     break;
   }
+  shape_step_ = -1; // the particles have moved
   for (std::size_t k = 0; k < contact_force_.size(); ++k)
     contact_impulse_[k] += dt_ * contact_force_[k];
   for (std::size_t f = 0; f < interface_force_.size(); ++f) {

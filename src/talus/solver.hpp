@@ -140,7 +140,7 @@ public:
   void fit_body_fields();
   void map_particles_to_nodes(bool with_forces);
   void map_forces_to_nodes();
-  // MUSL's particle velocity update and momentum re-map in one coloured pass.
+  // MUSL's particle velocity update, move and momentum re-map in one coloured pass.
   void update_velocities_and_remap(double dt);
   void compute_node_velocities(double dt);
   // Contact on one velocity array of every body field (v, v_new or v_remap).
@@ -185,6 +185,7 @@ private:
   std::vector<BodyField<D>> fields_;    // one per body
   std::vector<Material> body_material_; // per body
   std::vector<double> body_lp_;         // GIMP half-width per body
+  std::vector<GimpFactors> body_gimp_;  // its shape factors (GimpFactors(h, lp)) per body
   std::vector<Vec<D>> rigid_velocity_;  // per body (used if rigid)
   std::vector<double> pair_friction_;   // B x B
   std::vector<double> body_mass_;       // total mass per body: the master of a contact pair
