@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the dependencies, builds the release preset, runs the flagship case (the Vaiont landslide,
-# three bodies, 4 m particle spacing: about 5 minutes on 2 cores), prints its headline figures and
-# plots it. Another case: scripts/flagship.sh CASE.toml [talus run options...]
+# three bodies, 4 m particle spacing: under 2 minutes on 2 cores after the build), prints its
+# headline figures and plots it. Another case: scripts/flagship.sh CASE.toml [talus run options...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh

@@ -215,6 +215,7 @@ void Simulation<D>::report_bad_particle(std::size_t p) const {
 template <int D>
 void Simulation<D>::sort_particles_by_cell() {
   auto& P = particles_;
+  shape_step_ = -1; // shape_ is indexed by particle: the permutation invalidates it
   std::vector<std::uint32_t> order(P.size());
   std::iota(order.begin(), order.end(), 0u);
   std::vector<std::int64_t> key(P.size());

@@ -132,7 +132,10 @@ public:
   }
 
   // Initial conditions that a case file cannot express (tests set a velocity field here).
-  Particles<D>& particles_mut() { return particles_; }
+  Particles<D>& particles_mut() {
+    shape_step_ = -1; // the caller may move particles
+    return particles_;
+  }
 
   // The phases of step(), public so the tests can check each transfer on its own.
   void sort_particles_by_cell();
@@ -217,8 +220,10 @@ private:
   std::vector<double> contact_work_, internal_work_, strain_energy0_; // per body, since release
   static constexpr std::int64_t work_chunk = 1024; // particles per chunk of the stress work sum
   std::vector<double> chunk_work_;
-  // Each particle's shape weights at its current position, evaluated by the step's first P2G and
-  // read by every later transfer of the step (the particles move only in the last one).
+  // Each particle's shape weights at its position at the start of the step, evaluated by the
+  // step's first P2G and read by every later transfer of the step. The particles move in the
+  // last transfer (USF, USL) or in MUSL's velocity/re-map pass, whose stress pass then reads
+  // the start-of-step weights on purpose; step() invalidates them at its end.
   std::vector<ShapeWeights<D>> shape_;
   std::int64_t shape_step_ = -1; // the step whose positions shape_ holds
 

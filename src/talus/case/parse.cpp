@@ -383,6 +383,9 @@ Material read_material(TableReader& r) {
   }
   m.max_volume_ratio = r.number("max_volume_ratio", inf);
   require(r, "max_volume_ratio", m.max_volume_ratio > 1.0, "must be > 1");
+  require(r, "max_volume_ratio", model != "linear_elastic" || !r.has("max_volume_ratio"),
+          "only for the plastic models: an elastic particle's tension would keep growing while "
+          "its volume stays at the limit");
   return m;
 }
 
