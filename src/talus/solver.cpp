@@ -306,6 +306,23 @@ void Simulation<D>::map_particles_to_nodes(bool with_forces) {
     contact ? scatter_particles<false, true>() : scatter_particles<false, false>();
 }
 
+// Whether any node in the support of sw (body b's weights) lies in another body's field box.
+template <int D>
+bool Simulation<D>::reaches_other_body(int b, const ShapeWeights<D>& sw) const {
+  const BodyField<D>& N = fields_[b];
+  for (int c = 0; c < static_cast<int>(fields_.size()); ++c) {
+    if (c == b) continue;
+    const BodyField<D>& O = fields_[c];
+    bool overlap = true;
+    for (int d = 0; d < D && overlap; ++d) {
+      const std::int64_t first = N.offset[d] + sw.base[d], last = first + sw.k - 1;
+      overlap = last >= O.offset[d] && first < O.offset[d] + O.box.nodes[d];
+    }
+    if (overlap) return true;
+  }
+  return false;
+}
+
 template <int D>
 template <bool with_forces, bool with_contact>
 void Simulation<D>::scatter_particles() {
@@ -320,15 +337,24 @@ void Simulation<D>::scatter_particles() {
     const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
     const Vec<D> mg = m_p * gravity_;
-    for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
-      N.m[I] += N_I * m_p;
-      N.p[I] += N_I * mv_p;
-      if constexpr (with_contact) {
-        N.mx[I] += N_I * mx_p;
-        N.grad_m[I] += m_p * dN_I;
-      }
-      if constexpr (with_forces) N.f[I] += N_I * mg - Vsigma * dN_I;
-    });
+    auto map = [&]<bool contact>() {
+      for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
+        N.m[I] += N_I * m_p;
+        N.p[I] += N_I * mv_p;
+        if constexpr (contact) {
+          N.mx[I] += N_I * mx_p;
+          N.grad_m[I] += m_p * dN_I;
+        }
+        if constexpr (with_forces) N.f[I] += N_I * mg - Vsigma * dN_I;
+      });
+    };
+    // Contact reads the mass gradient and position only at nodes another body also reaches, all
+    // inside that body's box: a particle whose nodes miss every other box (most of the Vaiont
+    // bedrock) skips them. The sums at every node contact reads are unchanged.
+    if (with_contact && reaches_other_body(b, sw))
+      map.template operator()<true>();
+    else
+      map.template operator()<false>();
     if (P.iface[p] >= 0) { // eq. 37: the interface particle's share of the node's capacity
       const InterfaceSpec& spec = case_data_.interfaces[P.iface[p]];
       const double A = P.iface_area[p];
