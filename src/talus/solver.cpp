@@ -76,8 +76,7 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   for (const BodySpec& b : c.bodies) {
     body_material_.push_back(c.materials[b.material]);
     body_material_.back().prepare();
-    body_lp_.push_back(0.5 * c.grid.cell_size / b.particles_per_cell);
-    body_gimp_.emplace_back(c.grid.cell_size, body_lp_.back());
+    body_gimp_.emplace_back(c.grid.cell_size, 0.5 * c.grid.cell_size / b.particles_per_cell);
     Vec<D> v;
     for (int d = 0; d < D; ++d)
       v[d] = b.velocity[d];

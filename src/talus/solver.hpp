@@ -188,8 +188,7 @@ private:
   Particles<D> particles_;
   std::vector<BodyField<D>> fields_;    // one per body
   std::vector<Material> body_material_; // per body
-  std::vector<double> body_lp_;         // GIMP half-width per body
-  std::vector<GimpFactors> body_gimp_;  // its shape factors (GimpFactors(h, lp)) per body
+  std::vector<GimpFactors> body_gimp_;  // GIMP shape factors per body (its half-width lp in them)
   std::vector<Vec<D>> rigid_velocity_;  // per body (used if rigid)
   std::vector<double> pair_friction_;   // B x B
   std::vector<double> body_mass_;       // total mass per body: the master of a contact pair
