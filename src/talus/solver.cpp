@@ -270,20 +270,40 @@ void Simulation<D>::scatter(F&& f) {
   }
 }
 
-// Each body's field covers the nodes its particles reach (GIMP: one cell beyond the particle's
-// cell on each side), refitted and cleared every step.
+// Each body's field covers the nodes its particles and the orphans it hosts reach (GIMP: one
+// cell beyond the particle's cell on each side), refitted and cleared every step.
 template <int D>
 void Simulation<D>::fit_body_fields() {
   const auto& P = particles_;
-  for (int b = 0; b < P.num_bodies(); ++b) {
-    double lo_[D], hi_[D];
-    std::fill_n(lo_, D, inf), std::fill_n(hi_, D, -inf);
+  const int B = P.num_bodies();
+  std::vector<double>& bounds = box_bounds_; // B x D minima, then B x D maxima
+  bounds.resize(2 * B * D);
+  double* lo_ = bounds.data();
+  double* hi_ = bounds.data() + B * D;
+  for (int b = 0; b < B; ++b) {
+    double l[D], h[D];
+    std::fill_n(l, D, inf), std::fill_n(h, D, -inf);
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-#pragma omp parallel for schedule(static) reduction(min : lo_[:D]) reduction(max : hi_[:D])
+#pragma omp parallel for schedule(static) reduction(min : l[:D]) reduction(max : h[:D])
     for (std::int64_t p = begin; p < end; ++p)
       for (int d = 0; d < D; ++d)
-        lo_[d] = std::min(lo_[d], P.x[p][d]), hi_[d] = std::max(hi_[d], P.x[p][d]);
-    const Vec<D> lo = Eigen::Map<const Vec<D>>(lo_), hi = Eigen::Map<const Vec<D>>(hi_);
+        l[d] = std::min(l[d], P.x[p][d]), h[d] = std::max(h[d], P.x[p][d]);
+    std::copy_n(l, D, lo_ + b * D), std::copy_n(h, D, hi_ + b * D);
+  }
+  // The orphans (a handful, if any) stretch their hosts' boxes.
+  for (int b = 0; b < B; ++b) {
+    const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+#pragma omp parallel for schedule(static) reduction(min : lo_[:B * D]) reduction(max : hi_[:B * D])
+    for (std::int64_t p = begin; p < end; ++p)
+      if (const int f = P.field[p]; f != b)
+        for (int d = 0; d < D; ++d) {
+          lo_[f * D + d] = std::min(lo_[f * D + d], P.x[p][d]);
+          hi_[f * D + d] = std::max(hi_[f * D + d], P.x[p][d]);
+        }
+  }
+  for (int b = 0; b < B; ++b) {
+    const Vec<D> lo = Eigen::Map<const Vec<D>>(lo_ + b * D),
+                 hi = Eigen::Map<const Vec<D>>(hi_ + b * D);
     Index<D> first = grid_.cell_of(lo), last = grid_.cell_of(hi);
     for (int d = 0; d < D; ++d) {
       first[d] = std::clamp<std::int64_t>(first[d] - 1, 0, grid_.nodes[d]);
@@ -322,6 +342,71 @@ bool Simulation<D>::reaches_other_body(int b, const ShapeWeights<D>& sw) const {
   return false;
 }
 
+// Orphans (contact.orphan_fraction; docs/formulation.md "Orphan particles"). A deformable
+// body's particle cut off from its body inside another one cannot be resolved as a surface of
+// its own: alone in its field, its stress acts on nodes that carry only its mass while contact
+// with the body around it keeps squeezing it. So a particle whose own-body neighbours put less
+// than orphan_fraction of a filled cell's mass (rho_0 h^D) on its nodes, while another
+// deformable body puts at least a quarter of it there and more than its own body, maps to that
+// body's field from the next step on: it moves with the body around it (one velocity field,
+// as in single-field MPM) and keeps its own material, stress and body. It returns to its own
+// field when its own body's neighbours put twice the fraction there (hysteresis). Decided at
+// the end of every orphan_interval-th step from that step's nodal masses and start-of-step
+// weights, for the steps that follow; deterministic.
+template <int D>
+void Simulation<D>::update_orphans() {
+  const double fraction = case_data_.contact.orphan_fraction;
+  const int B = num_bodies();
+  if (fraction <= 0.0 || B < 2) return;
+  auto& P = particles_;
+  if (shape_.size() != P.size())
+    throw std::logic_error("update_orphans needs the step's shape weights");
+  const double cell = std::pow(grid_.h, D);
+  std::int64_t count = 0;
+  for (int b = 0; b < B; ++b) {
+    if (case_data_.bodies[b].rigid) continue;
+    const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+#pragma omp parallel for schedule(static) reduction(+ : count)
+    for (std::int64_t p = begin; p < end; ++p) {
+      const int f = P.field[p];
+      const ShapeWeights<D>& sw = shape_[p];
+      if (f == b && !reaches_other_body(b, sw)) continue;
+      const BodyField<D>& H = fields_[f];
+      // Body c's nodal mass at p's nodes, weighted by p's shape functions, without p's own.
+      auto mass_around = [&](int c) {
+        double m = 0.0;
+        if (c == f) {
+          for_each_node(H.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+            m += N_I * (H.m[I] - N_I * P.m[p]);
+          });
+          return m;
+        }
+        const BodyField<D>& C = fields_[c];
+        for_each_node(H.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+          Index<D> g;
+          for (int d = D - 1; d >= 0; --d)
+            g[d] = H.offset[d] + I % H.box.nodes[d], I /= H.box.nodes[d];
+          if (const std::int64_t J = C.local(g); J >= 0) m += N_I * C.m[J];
+        });
+        return m;
+      };
+      const double filled = P.m[p] / P.vol0[p] * cell;
+      const double own = mass_around(b);
+      int host = b;
+      if (own < (f == b ? 1.0 : 2.0) * fraction * filled) {
+        double best = std::max(own, 0.25 * filled);
+        for (int c = 0; c < B; ++c) {
+          if (c == b || case_data_.bodies[c].rigid) continue;
+          if (const double m = mass_around(c); m > best) best = m, host = c;
+        }
+      }
+      P.field[p] = host;
+      count += host != b;
+    }
+  }
+  orphans_ = count;
+}
+
 template <int D>
 template <bool with_forces, bool with_contact>
 void Simulation<D>::scatter_particles() {
@@ -330,7 +415,8 @@ void Simulation<D>::scatter_particles() {
   shape_.resize(P.size());
   shape_step_ = steps_;
   scatter([&](std::uint32_t p, int b) {
-    BodyField<D>& N = fields_[b];
+    const int f = P.field[p]; // b, or the host of an orphan
+    BodyField<D>& N = fields_[f];
     const ShapeWeights<D>& sw = shape_[p] = evaluate_shape(N.box, kind, body_gimp_[b], P.x[p]);
     const double m_p = P.m[p];
     const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
@@ -350,11 +436,12 @@ void Simulation<D>::scatter_particles() {
     // Contact reads the mass gradient and position only at nodes another body also reaches, all
     // inside that body's box: a particle whose nodes miss every other box (most of the Vaiont
     // bedrock) skips them. The sums at every node contact reads are unchanged.
-    if (with_contact && reaches_other_body(b, sw))
+    if (with_contact && reaches_other_body(f, sw))
       map.template operator()<true>();
     else
       map.template operator()<false>();
-    if (P.iface[p] >= 0) { // eq. 37: the interface particle's share of the node's capacity
+    if (P.iface[p] >= 0 && f == b) { // eq. 37 (an orphan is not on its interface any more): the
+                                     // interface particle's share of the node's capacity
       const InterfaceSpec& spec = case_data_.interfaces[P.iface[p]];
       const double A = P.iface_area[p];
       const double cA = P.cohesion[p] * A, tA = tensile_strength(spec, P.cohesion[p]) * A;
@@ -373,8 +460,8 @@ template <int D>
 void Simulation<D>::map_forces_to_nodes() {
   auto& P = particles_;
   assert_shape_current();
-  scatter([&](std::uint32_t p, int b) {
-    BodyField<D>& N = fields_[b];
+  scatter([&](std::uint32_t p, int) {
+    BodyField<D>& N = fields_[P.field[p]];
     const ShapeWeights<D>& sw = shape_[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
     const Vec<D> mg = P.m[p] * gravity_;
@@ -412,7 +499,7 @@ void Simulation<D>::update_velocities_and_remap(double dt) {
   for (auto& N : fields_)
     std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
   scatter([&](std::uint32_t p, int b) {
-    BodyField<D>& N = fields_[b];
+    BodyField<D>& N = fields_[P.field[p]];
     const ShapeWeights<D>& sw = shape_[p];
     if (case_data_.bodies[b].rigid) {
       P.v[p] = rigid_velocity_[b];
@@ -425,7 +512,7 @@ void Simulation<D>::update_velocities_and_remap(double dt) {
       });
       P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
       P.x[p] += 0.5 * dt * (v_old + v_new);
-      gather_slip(p, N, sw, dt);
+      if (P.field[p] == b) gather_slip(p, N, sw, dt);
     }
     const Vec<D> mv_p = P.m[p] * P.v[p];
     for_each_node(N.box, sw,
@@ -679,13 +766,11 @@ template <int D>
 template <class Model, bool velocity, bool move>
 void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, const Model* model) {
   auto& P = particles_;
-  const BodyField<D>& N = fields_[b];
   const double flip = case_data_.simulation.flip;
   const bool rigid = case_data_.bodies[b].rigid;
   assert_shape_current();
   const double max_J = body_material_[b].max_volume_ratio;
   const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-  const Vec<D>* rate = what.strain_rate ? (N.*what.strain_rate).data() : nullptr;
   std::atomic<std::size_t> bad{P.size()};
   // Particles go in fixed chunks so that the stress work sums in an order that does not depend
   // on the thread count (chunk sums, then the chunks in order).
@@ -702,6 +787,8 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
         continue;
       }
       const ShapeWeights<D>& sw = shape_[p];
+      const BodyField<D>& N = fields_[P.field[p]];
+      const Vec<D>* rate = what.strain_rate ? (N.*what.strain_rate).data() : nullptr;
       Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
       Mat<D> L = Mat<D>::Zero();
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
@@ -713,7 +800,7 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
       });
       if constexpr (velocity) {
         P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
-        gather_slip(static_cast<std::size_t>(p), N, sw, dt);
+        if (P.field[p] == b) gather_slip(static_cast<std::size_t>(p), N, sw, dt);
       }
       if constexpr (move) P.x[p] += 0.5 * dt * (v_old + v_new);
       if (model) {
@@ -797,6 +884,8 @@ void Simulation<D>::step(double dt_limit) {
     timed(T.stress, [&] { map_nodes_to_particles(dt_, {.strain_rate = &F::v_remap}); });
     break;
   }
+  // Orphans change over thousands of steps: every tenth step's masses and weights decide them.
+  if (steps_ % orphan_interval == 0) timed(T.other, [&] { update_orphans(); });
   shape_step_ = -1; // the particles have moved
   for (std::size_t k = 0; k < contact_force_.size(); ++k)
     contact_impulse_[k] += dt_ * contact_force_[k];

@@ -132,6 +132,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"volume_limit_elastic", "poisson_ratio = 0.25",
                 "poisson_ratio = 0.25\nmax_volume_ratio = 1.5",
                 "inline.toml:21: material[0].max_volume_ratio: only for the plastic models"},
+        BadCase{"orphan_fraction_range", "[output]",
+                "[[contact]]\nfriction = 0.2\norphan_fraction = 0.6\n[output]",
+                "inline.toml:40: contact[0].orphan_fraction: must be in [0, 0.5)"},
+        BadCase{"orphan_fraction_on_a_pair", "[output]",
+                "[[contact]]\nbodies = [\"block\", \"ball\"]\nfriction = 0.2\n"
+                "orphan_fraction = 0.2\n[output]",
+                "contact[0].orphan_fraction"},
         BadCase{"zero_density", "density = 2000", "density = 0",
                 "inline.toml:18: material[0].density: must be > 0 kg/m^3"},
         BadCase{"unknown_material", "material = \"rock\"\nbox", "material = \"rok\"\nbox",

@@ -95,6 +95,10 @@ struct InterfaceSpec {
 struct ContactSettings {
   double friction = 0.0;   // default Coulomb coefficient
   double gap_cutoff = 0.8; // cells; < 0 switches the gap check off
+  // A deformable body's particle whose own-body neighbours put less than this fraction of a
+  // filled cell's mass on its nodes, with another deformable body's mass around it, maps to that
+  // body's field (an orphan; 0 switches it off). See docs/formulation.md.
+  double orphan_fraction = 0.1;
   std::vector<ContactPair> pairs;
 };
 

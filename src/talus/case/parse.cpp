@@ -767,6 +767,10 @@ Case parse_case_text(const std::string& text, const std::string& path,
       has_default = true;
       c.contact.friction = mu;
       c.contact.gap_cutoff = r.number("gap_cutoff", 0.8);
+      c.contact.orphan_fraction = r.number("orphan_fraction", c.contact.orphan_fraction);
+      require(r, "orphan_fraction",
+              c.contact.orphan_fraction >= 0.0 && c.contact.orphan_fraction < 0.5,
+              "must be in [0, 0.5) (a fraction of a filled cell's nodal mass)");
       return;
     }
     const auto [first, second] = read_body_pair(r, body_names);
@@ -860,9 +864,9 @@ Case parse_case_text(const std::string& text, const std::string& path,
     c.output.particles = ro.boolean("particles", true);
     c.output.contact_nodes = ro.boolean("contact_nodes", false);
     if (const toml::array* f = ro.array("fields")) {
-      const std::vector<std::string> known = {"velocity", "stress",   "displacement",
-                                              "mass",     "volume",   "plastic_strain",
-                                              "body",     "material", "interface"};
+      const std::vector<std::string> known = {
+          "velocity",       "stress", "displacement", "mass",      "volume",
+          "plastic_strain", "body",   "material",     "interface", "field"};
       for (std::size_t i = 0; i < f->size(); ++i) {
         const auto s = f->get(i)->value<std::string>();
         if (!s)

@@ -65,7 +65,7 @@ RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::m
   energy_ = "time,step,dt,kinetic_energy" + components<D>("momentum_") + "\n";
   bodies_ = "time,body,mass" + components<D>("centroid_") + components<D>("velocity_") +
             ",mean_speed,max_speed,kinetic_energy,gravity_work,contact_work,internal_work,"
-            "strain_energy\n";
+            "strain_energy,orphans\n";
   contacts_ = "time,body,other" + components<D>("force_") + "\n";
   interfaces_ = "time,interface,cohesive_force,frictional_force,normal_force\n";
   probes_ = "time,probe" + components<D>("") + components<D>("velocity_") + ",speed,displacement\n";
@@ -80,6 +80,7 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
   Vec<D> mom_total = Vec<D>::Zero();
   for (int b = 0; b < P.num_bodies(); ++b) {
     double mass = 0.0, ke = 0.0, speed_sum = 0.0, max_speed = 0.0;
+    std::size_t orphans = 0;
     Vec<D> mx = Vec<D>::Zero(), mv = Vec<D>::Zero();
     for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
       const double speed = P.v[p].norm();
@@ -89,14 +90,16 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
       ke += 0.5 * P.m[p] * speed * speed;
       speed_sum += P.m[p] * speed;
       max_speed = std::max(max_speed, speed);
+      orphans += P.field[p] != b;
     }
     ke_total += ke;
     mom_total += mv;
-    bodies_ += fmt::format("{:.10g},{},{:.10g}{}{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
-                           "{:.10g}\n",
-                           t, c.bodies[b].name, mass, join<D>(mx / mass), join<D>(mv / mass),
-                           speed_sum / mass, max_speed, ke, sim.gravity_work(b),
-                           sim.contact_work(b), sim.internal_work(b), sim.strain_energy(b));
+    bodies_ +=
+        fmt::format("{:.10g},{},{:.10g}{}{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
+                    "{:.10g},{}\n",
+                    t, c.bodies[b].name, mass, join<D>(mx / mass), join<D>(mv / mass),
+                    speed_sum / mass, max_speed, ke, sim.gravity_work(b), sim.contact_work(b),
+                    sim.internal_work(b), sim.strain_energy(b), orphans);
   }
   energy_ += fmt::format("{:.10g},{},{:.10g},{:.10g}{}\n", t, sim.steps(), sim.last_dt(), ke_total,
                          join<D>(mom_total));

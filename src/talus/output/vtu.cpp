@@ -107,6 +107,7 @@ std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body
   if (fields.wants("mass")) data_array(out, "Float64", "mass", 1, P.m);
   if (fields.wants("volume")) data_array(out, "Float64", "volume", 1, P.vol);
   if (fields.wants("plastic_strain")) data_array(out, "Float64", "plastic_strain", 1, P.eps_p);
+  if (fields.wants("field")) data_array(out, "Int32", "field", 1, P.field);
   if (fields.wants("interface")) {
     data_array(out, "Int32", "interface", 1, P.iface);
     data_array(out, "Float64", "interface_slip", 1, P.slip);
