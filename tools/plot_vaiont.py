@@ -27,6 +27,9 @@ ap.add_argument("run")
 ap.add_argument("--section", default=str(Path(__file__).parent.parent / "cases/vaiont/section.csv"))
 ap.add_argument("--out")
 ap.add_argument("--times", type=float, nargs="+", default=[10.0, 17.5, 22.5, 33.5])
+ap.add_argument("--body", default="slide", help="the body of the speed and stress plots")
+ap.add_argument("--spacing", type=float, default=4.0,
+                help="particle spacing (m) if the frames carry no volume field")
 a = ap.parse_args()
 run = Path(a.run)
 out = Path(a.out) if a.out else run / "plots"
@@ -82,14 +85,14 @@ fig.savefig(out / "probe_speed.png", dpi=100)
 plt.close(fig)
 
 # Speed against displacement.
-rows = [r for r in csv.DictReader(open(run / "bodies.csv")) if r["body"] == "slide"]
+rows = [r for r in csv.DictReader(open(run / "bodies.csv")) if r["body"] == a.body]
 cx = np.array([float(r["centroid_x"]) for r in rows])
 cy = np.array([float(r["centroid_y"]) for r in rows])
 d = np.hypot(cx - cx[0], cy - cy[0])
 fig, ax = plt.subplots(figsize=(6, 3.8))
 ax.plot(d, [float(r["mean_speed"]) for r in rows])
-ax.set_xlabel("slide centroid displacement (m)")
-ax.set_ylabel("slide mass-averaged speed (m/s)")
+ax.set_xlabel(f"{a.body} centroid displacement (m)")
+ax.set_ylabel(f"{a.body} mass-averaged speed (m/s)")
 ax.grid(alpha=0.3)
 fig.tight_layout()
 fig.savefig(out / "speed_displacement.png", dpi=100)
@@ -109,7 +112,7 @@ def surface(m, width):
 # Final ground surface.
 t0, m0 = frame(0.0)
 tf, mf = frame(frames[-1][0])
-spacing = np.sqrt(np.median(m0.point_data["volume"])) if "volume" in m0.point_data else 4.0
+spacing = np.sqrt(np.median(m0.point_data["volume"])) if "volume" in m0.point_data else a.spacing
 fig, ax = plt.subplots(figsize=(9, 4))
 ax.plot(ground[:, 0], ground[:, 1], "k--", label="ground before the slide (section.csv)")
 xs, ys = surface(m0, 2 * spacing)
@@ -124,32 +127,34 @@ fig.tight_layout()
 fig.savefig(out / "profile.png", dpi=100)
 plt.close(fig)
 
-# Vertical stress at release down a vertical line through the slide's centroid.
-x = m0.points[:, :2]
-body = m0.point_data["body"].ravel().astype(int)
-slide = body == list(dict.fromkeys(r["body"] for r in csv.DictReader(open(run / "bodies.csv")))).index("slide")
-xc = x[slide, 0][np.argmin(np.abs(x[slide, 0] - x[slide, 0].mean()))]  # a particle column
-col = np.abs(x[:, 0] - xc) < 0.5 * spacing
-order = np.argsort(-x[col, 1])
-y = x[col, 1][order]
-syy = m0.point_data["stress"][col, 1][order]
-mass = m0.point_data["mass"].ravel()[col][order] if "mass" in m0.point_data else None
-fig, ax = plt.subplots(figsize=(5, 5))
-for b in np.unique(body[col]):
-    sel = body[col][order] == b
-    ax.plot(-syy[sel] / 1e6, y[sel], ".", ms=3, color=colours[b % len(colours)])
-if mass is not None:
-    width = spacing  # one column of particles, one spacing wide
-    overburden = np.cumsum(mass) * 9.81 / width - 0.5 * mass * 9.81 / width
-    ax.plot(overburden / 1e6, y, "k-", lw=1, label="weight of the particles above")
-    ax.legend(fontsize=8)
-ax.set_xlabel("-sigma_yy (MPa)")
-ax.set_ylabel("elevation (m)")
-ax.set_title(f"at release, x = {xc:.0f} m")
-ax.grid(alpha=0.3)
-fig.tight_layout()
-fig.savefig(out / "release_stress.png", dpi=100)
-plt.close(fig)
-print("wrote", ", ".join(str(out / n) for n in ["frames.png", "probe_speed.png",
-                                                 "speed_displacement.png", "profile.png",
-                                                 "release_stress.png"]))
+# Vertical stress at release down a vertical line through the slide's centroid (if the frames
+# carry the stress).
+written = ["frames.png", "probe_speed.png", "speed_displacement.png", "profile.png"]
+if "stress" in m0.point_data:
+    x = m0.points[:, :2]
+    body = m0.point_data["body"].ravel().astype(int)
+    slide = body == list(dict.fromkeys(r["body"] for r in csv.DictReader(open(run / "bodies.csv")))).index(a.body)
+    xc = x[slide, 0][np.argmin(np.abs(x[slide, 0] - x[slide, 0].mean()))]  # a particle column
+    col = np.abs(x[:, 0] - xc) < 0.5 * spacing
+    order = np.argsort(-x[col, 1])
+    y = x[col, 1][order]
+    syy = m0.point_data["stress"][col, 1][order]
+    mass = m0.point_data["mass"].ravel()[col][order] if "mass" in m0.point_data else None
+    fig, ax = plt.subplots(figsize=(5, 5))
+    for b in np.unique(body[col]):
+        sel = body[col][order] == b
+        ax.plot(-syy[sel] / 1e6, y[sel], ".", ms=3, color=colours[b % len(colours)])
+    if mass is not None:
+        width = spacing  # one column of particles, one spacing wide
+        overburden = np.cumsum(mass) * 9.81 / width - 0.5 * mass * 9.81 / width
+        ax.plot(overburden / 1e6, y, "k-", lw=1, label="weight of the particles above")
+        ax.legend(fontsize=8)
+    ax.set_xlabel("-sigma_yy (MPa)")
+    ax.set_ylabel("elevation (m)")
+    ax.set_title(f"at release, x = {xc:.0f} m")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out / "release_stress.png", dpi=100)
+    plt.close(fig)
+    written.append("release_stress.png")
+print("wrote", ", ".join(str(out / n) for n in written))
