@@ -357,16 +357,19 @@ template <int D>
 void Simulation<D>::update_orphans() {
   const double fraction = case_data_.contact.orphan_fraction;
   const int B = num_bodies();
-  if (fraction <= 0.0 || B < 2) return;
   auto& P = particles_;
+  if (fraction <= 0.0 || B < 2) { // off (a checkpoint's orphans, if any, go home)
+    for (int b = 0; b < B; ++b)
+      std::fill(P.field.begin() + P.body_begin[b], P.field.begin() + P.body_begin[b + 1], b);
+    return;
+  }
   if (shape_.size() != P.size())
     throw std::logic_error("update_orphans needs the step's shape weights");
   const double cell = std::pow(grid_.h, D);
-  std::int64_t count = 0;
   for (int b = 0; b < B; ++b) {
     if (case_data_.bodies[b].rigid) continue;
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-#pragma omp parallel for schedule(static) reduction(+ : count)
+#pragma omp parallel for schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
       const int f = P.field[p];
       const ShapeWeights<D>& sw = shape_[p];
@@ -401,10 +404,18 @@ void Simulation<D>::update_orphans() {
         }
       }
       P.field[p] = host;
-      count += host != b;
     }
   }
-  orphans_ = count;
+}
+
+template <int D>
+std::int64_t Simulation<D>::orphans() const {
+  const auto& P = particles_;
+  std::int64_t n = 0;
+  for (int b = 0; b < P.num_bodies(); ++b)
+    n += std::count_if(P.field.begin() + P.body_begin[b], P.field.begin() + P.body_begin[b + 1],
+                       [b](std::int32_t f) { return f != b; });
+  return n;
 }
 
 template <int D>

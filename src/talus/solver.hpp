@@ -160,8 +160,8 @@ public:
   // Re-decides which particles are orphans mapped to another body's field
   // (contact.orphan_fraction).
   void update_orphans();
-  // Particles mapped to another body's field after the last step.
-  std::int64_t orphans() const { return orphans_; }
+  // Particles mapped to another body's field (counted from Particles::field).
+  std::int64_t orphans() const;
 
 private:
   double wave_speed(std::int64_t p, double modulus) const;
@@ -211,8 +211,7 @@ private:
   std::vector<std::uint32_t> bin_index_;
   std::vector<std::size_t> bin_offset_;
   std::vector<std::uint32_t> particle_bin_;
-  std::vector<double> box_bounds_; // fit_body_fields' per-body particle bounds
-  std::int64_t orphans_ = 0;
+  std::vector<double> box_bounds_;           // fit_body_fields' per-body particle bounds
   static constexpr int orphan_interval = 10; // steps between update_orphans()
 
   std::vector<Vec<D>> contact_force_;   // B x B, last step

@@ -7,6 +7,9 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace talus {
 namespace {
@@ -16,6 +19,7 @@ namespace {
 // particle nearest the column's middle, so that it sits inside the column, cut off from its body.
 struct ColumnCase {
   double fraction = 0.1;
+  std::string scheme = "musl";
   std::string gravity = "[0, -9.81]";
   double damping = 0.0;
   double extent_x = 0.5, x0 = 0.0, y0 = 0.0;
@@ -27,7 +31,7 @@ std::string column_case(const ColumnCase& k) {
 [simulation]
 end_time = 1.0
 gravity = {}
-scheme = "musl"
+scheme = "{}"
 flip = 0.99
 damping = {}
 [grid]
@@ -52,7 +56,7 @@ box = {{ min = [{}, 1.3], max = [{}, 1.325] }}
 friction = 0.0
 orphan_fraction = {}
 )",
-                     k.gravity, k.damping, k.extent_x, k.boundary, k.x0, k.y0, k.x0 + 0.5,
+                     k.gravity, k.scheme, k.damping, k.extent_x, k.boundary, k.x0, k.y0, k.x0 + 0.5,
                      k.y0 + 1.0, k.x0, k.x0 + 0.025, k.fraction);
 }
 
@@ -71,8 +75,10 @@ std::size_t embed_lone_particle(Simulation<2>& sim) {
 // The lone particle joins the column's field after the first step and then settles with it: its
 // displacement and stress are those of the column around it. The host particle moved to the air
 // stays in its own body's field (nothing of another body is around it).
-TEST(Orphans, EmbeddedParticleJoinsTheBodyAroundItAndMovesWithIt) {
-  const Case c = test::case_from(column_case({.damping = 0.3}));
+class OrphansIn : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(OrphansIn, EmbeddedParticleJoinsTheBodyAroundItAndMovesWithIt) {
+  const Case c = test::case_from(column_case({.scheme = GetParam(), .damping = 0.3}));
   Simulation<2> sim(c);
   const std::size_t lone = embed_lone_particle(sim);
   const std::uint32_t lone_id = sim.particles().id[lone];
@@ -103,6 +109,34 @@ TEST(Orphans, EmbeddedParticleJoinsTheBodyAroundItAndMovesWithIt) {
   EXPECT_NEAR(lone_uy, uy, 0.02 * std::abs(uy)) << "it moves with the column";
   EXPECT_NEAR(P.stress[p][1], syy, 0.15 * std::abs(syy)) << "and carries the column's stress";
 }
+
+INSTANTIATE_TEST_SUITE_P(Schemes, OrphansIn, ::testing::Values("musl", "usl", "usf"));
+
+#ifdef _OPENMP
+// The decision pass and the orphan's transfers run in parallel: 1 and 2 threads agree bit for bit.
+TEST(Orphans, OneAndTwoThreadsAreBitwiseIdentical) {
+  const Case c = test::case_from(column_case({.damping = 0.3}));
+  auto run = [&](int threads) {
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    Simulation<2> sim(c);
+    embed_lone_particle(sim);
+    for (int s = 0; s < 200; ++s)
+      sim.step();
+    omp_set_num_threads(before);
+    EXPECT_EQ(sim.orphans(), 1);
+    return sim.particles();
+  };
+  const Particles<2> one = run(1), two = run(2);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t p = 0; p < one.size(); ++p) {
+    ASSERT_TRUE(one.x[p] == two.x[p]) << p;
+    ASSERT_TRUE(one.v[p] == two.v[p]) << p;
+    ASSERT_TRUE(one.stress[p] == two.stress[p]) << p;
+    ASSERT_EQ(one.field[p], two.field[p]) << p;
+  }
+}
+#endif
 
 // With no gravity and no floor, the column moving at 1 m/s and the lone particle inside it at
 // rest: the particle is carried along at the column's speed, and the total momentum stays that
