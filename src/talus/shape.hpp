@@ -11,14 +11,18 @@ namespace talus {
 
 enum class ShapeKind { linear, gimp };
 
-// Up to 3 nodes per direction (GIMP); linear uses the first 2.
+// Up to 3 nodes per direction (GIMP); linear uses 2. GIMP's support holds 3 nodes in a
+// direction only while the particle's domain (half-width lp) straddles a node line; otherwise
+// the third node's weight is exactly zero and the record keeps 2 (k[d]), so the transfers visit
+// the nodes with weight and no others (with lp = h/4: 2.5 x 2.5 of the 3 x 3 nodes on average in
+// 2D). The sums are bitwise those of a 3 x 3 walk, which only added zeros.
 // Not zero-filled on construction (that cost a quarter of evaluate_shape): evaluate_shape writes
-// every entry that for_each_node reads (the first k per direction).
+// every entry that for_each_node reads (the first k[d] per direction).
 template <int D>
 struct ShapeWeights {
   static constexpr int max_k = 3;
   Index<D> base;       // lowest node in the support, per direction
-  int k = 2;           // nodes per direction
+  int k[D];            // nodes per direction: 2 or 3
   double w[D][max_k];  // 1D weights
   double dw[D][max_k]; // 1D derivatives d/dx
 };
@@ -67,8 +71,8 @@ inline ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, const
   ShapeWeights<D> sw;
   const double inv_h = f.inv_h;
   if (kind == ShapeKind::linear) {
-    sw.k = 2;
     for (int d = 0; d < D; ++d) {
+      sw.k[d] = 2;
       const double xi = (x[d] - grid.origin[d]) * inv_h;
       const auto base = static_cast<std::int64_t>(std::floor(xi));
       sw.base[d] = base;
@@ -83,7 +87,6 @@ inline ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, const
     }
     return sw;
   }
-  sw.k = 3;
   for (int d = 0; d < D; ++d) {
     const double xi = (x[d] - grid.origin[d]) * inv_h;
     const auto base = static_cast<std::int64_t>(std::floor(xi - 0.5));
@@ -95,6 +98,17 @@ inline ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, const
       if (node < 0 || node >= grid.nodes[d]) w = dw = 0.0;
       sw.w[d][a] = w;
       sw.dw[d][a] = dw;
+    }
+    // Drop an end node with no weight (and so no gradient: GIMP's tail vanishes with its
+    // derivative), keeping at least 2 nodes.
+    sw.k[d] = 3;
+    if (sw.w[d][0] == 0.0 && sw.dw[d][0] == 0.0) {
+      sw.base[d] = base + 1;
+      sw.w[d][0] = sw.w[d][1], sw.dw[d][0] = sw.dw[d][1];
+      sw.w[d][1] = sw.w[d][2], sw.dw[d][1] = sw.dw[d][2];
+      sw.k[d] = 2;
+    } else if (sw.w[d][2] == 0.0 && sw.dw[d][2] == 0.0) {
+      sw.k[d] = 2;
     }
   }
   return sw;
@@ -108,32 +122,32 @@ inline ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, doubl
 
 namespace shape_detail {
 
-// The loops of for_each_node with the nodes per direction K known at compile time, so that they
-// unroll (linear: K = 2, GIMP: K = 3).
-template <int K, int D, class F>
+// The loops of for_each_node with the nodes per direction known at compile time, so that they
+// unroll (K0, K1, K2: 2 or 3 each).
+template <int K0, int K1, int K2, int D, class F>
 inline void for_each_node_k(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& f) {
   auto clamp = [&](int d, std::int64_t i) {
     return i < 0 ? std::int64_t{0} : (i >= grid.nodes[d] ? grid.nodes[d] - 1 : i);
   };
   if constexpr (D == 2) {
-    std::int64_t col[K];
-    for (int b = 0; b < K; ++b)
+    std::int64_t col[K1];
+    for (int b = 0; b < K1; ++b)
       col[b] = clamp(1, sw.base[1] + b);
-    for (int a = 0; a < K; ++a) {
+    for (int a = 0; a < K0; ++a) {
       const std::int64_t row = clamp(0, sw.base[0] + a) * grid.nodes[1];
-      for (int b = 0; b < K; ++b) {
+      for (int b = 0; b < K1; ++b) {
         const double N = sw.w[0][a] * sw.w[1][b];
         const Vec<2> g(sw.dw[0][a] * sw.w[1][b], sw.w[0][a] * sw.dw[1][b]);
         f(row + col[b], N, g);
       }
     }
   } else {
-    for (int a = 0; a < K; ++a) {
-      for (int b = 0; b < K; ++b) {
+    for (int a = 0; a < K0; ++a) {
+      for (int b = 0; b < K1; ++b) {
         const std::int64_t row =
             (clamp(0, sw.base[0] + a) * grid.nodes[1] + clamp(1, sw.base[1] + b)) * grid.nodes[2];
         const double wab = sw.w[0][a] * sw.w[1][b];
-        for (int c = 0; c < K; ++c) {
+        for (int c = 0; c < K2; ++c) {
           const double N = wab * sw.w[2][c];
           const Vec<3> g(sw.dw[0][a] * sw.w[1][b] * sw.w[2][c],
                          sw.w[0][a] * sw.dw[1][b] * sw.w[2][c], wab * sw.dw[2][c]);
@@ -149,10 +163,38 @@ inline void for_each_node_k(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& 
 // Calls f(node_index, N, grad N) for every node in the support of sw, in a fixed order (x-major).
 template <int D, class F>
 inline void for_each_node(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& f) {
-  if (sw.k == 2)
-    shape_detail::for_each_node_k<2>(grid, sw, f);
-  else
-    shape_detail::for_each_node_k<3>(grid, sw, f);
+  using namespace shape_detail;
+  if constexpr (D == 2) {
+    switch ((sw.k[0] - 2) * 2 + (sw.k[1] - 2)) {
+    case 0:
+      return for_each_node_k<2, 2, 0>(grid, sw, f);
+    case 1:
+      return for_each_node_k<2, 3, 0>(grid, sw, f);
+    case 2:
+      return for_each_node_k<3, 2, 0>(grid, sw, f);
+    default:
+      return for_each_node_k<3, 3, 0>(grid, sw, f);
+    }
+  } else {
+    switch ((sw.k[0] - 2) * 4 + (sw.k[1] - 2) * 2 + (sw.k[2] - 2)) {
+    case 0:
+      return for_each_node_k<2, 2, 2>(grid, sw, f);
+    case 1:
+      return for_each_node_k<2, 2, 3>(grid, sw, f);
+    case 2:
+      return for_each_node_k<2, 3, 2>(grid, sw, f);
+    case 3:
+      return for_each_node_k<2, 3, 3>(grid, sw, f);
+    case 4:
+      return for_each_node_k<3, 2, 2>(grid, sw, f);
+    case 5:
+      return for_each_node_k<3, 2, 3>(grid, sw, f);
+    case 6:
+      return for_each_node_k<3, 3, 2>(grid, sw, f);
+    default:
+      return for_each_node_k<3, 3, 3>(grid, sw, f);
+    }
+  }
 }
 
 } // namespace talus

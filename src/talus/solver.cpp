@@ -334,7 +334,7 @@ bool Simulation<D>::reaches_other_body(int b, const ShapeWeights<D>& sw) const {
     const BodyField<D>& O = fields_[c];
     bool overlap = true;
     for (int d = 0; d < D && overlap; ++d) {
-      const std::int64_t first = N.offset[d] + sw.base[d], last = first + sw.k - 1;
+      const std::int64_t first = N.offset[d] + sw.base[d], last = first + sw.k[d] - 1;
       overlap = last >= O.offset[d] && first < O.offset[d] + O.box.nodes[d];
     }
     if (overlap) return true;

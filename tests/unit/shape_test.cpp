@@ -84,5 +84,77 @@ TYPED_TEST(ShapeTest, NodesOutsideTheGridGetNoWeight) {
   EXPECT_LE(sum, 1.0 + 1e-14);
 }
 
+// GIMP's record keeps a third node in a direction only while the particle's domain straddles a
+// node line (its weight is exactly zero otherwise): the walk visits exactly the nodes with
+// weight, and its sums are bitwise those of the full 3 x 3 (x 3) walk of the 1D weights.
+TYPED_TEST(ShapeTest, GimpWalksExactlyTheNodesWithWeight) {
+  constexpr int D = TypeParam::value;
+  const Grid<D> grid = test_grid<D>();
+  const double lp = 0.125; // a quarter of the cell: 2 particles per cell
+  const GimpFactors f(grid.h, lp);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.4, 2.4);
+  int three = 0, total = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    Vec<D> x;
+    for (int d = 0; d < D; ++d)
+      x[d] = u(rng);
+    if (trial == 0) x.setConstant(0.125); // on the edge of the support: exactly 2 per direction
+    const ShapeWeights<D> sw = evaluate_shape(grid, ShapeKind::gimp, f, x);
+    // The full walk: every node within 2 cells, with its 1D weights, in x-major order.
+    double full_sum = 0.0;
+    Vec<D> full_grad = Vec<D>::Zero();
+    int with_weight = 0;
+    Index<D> lo;
+    for (int d = 0; d < D; ++d)
+      lo[d] = static_cast<std::int64_t>(std::floor((x[d] - grid.origin[d]) / grid.h)) - 1;
+    const int span = 4;
+    for (int flat = 0; flat < (D == 2 ? span * span : span * span * span); ++flat) {
+      Index<D> node;
+      int rest = flat;
+      for (int d = D - 1; d >= 0; --d)
+        node[d] = lo[d] + rest % span, rest /= span;
+      double w[D], dw[D];
+      for (int d = 0; d < D; ++d)
+        gimp_1d(((x[d] - grid.origin[d]) * f.inv_h - static_cast<double>(node[d])) * grid.h, f,
+                w[d],
+                dw[d]); // as evaluate_shape rounds
+      double N = 1.0;
+      for (int d = 0; d < D; ++d)
+        N *= w[d];
+      if (N == 0.0) continue;
+      ++with_weight;
+      const std::int64_t I = grid.node_index(node);
+      full_sum += N * static_cast<double>(I);
+      for (int d = 0; d < D; ++d) {
+        double g = dw[d];
+        for (int e = 0; e < D; ++e)
+          if (e != d) g *= w[e];
+        full_grad[d] += g * static_cast<double>(I);
+      }
+    }
+    double sum = 0.0;
+    Vec<D> grad = Vec<D>::Zero();
+    int visited = 0;
+    for_each_node(grid, sw, [&](std::int64_t I, double N, const Vec<D>& g) {
+      ++visited;
+      sum += N * static_cast<double>(I);
+      grad += g * static_cast<double>(I);
+    });
+    EXPECT_EQ(visited, with_weight) << "trial " << trial;
+    EXPECT_EQ(sum, full_sum) << "trial " << trial;
+    for (int d = 0; d < D; ++d) {
+      EXPECT_NEAR(grad[d], full_grad[d], 1e-9 * (1.0 + std::abs(full_grad[d])));
+      EXPECT_TRUE(sw.k[d] == 2 || sw.k[d] == 3);
+      three += sw.k[d] == 3, ++total;
+    }
+    if (trial == 0)
+      for (int d = 0; d < D; ++d)
+        EXPECT_EQ(sw.k[d], 2);
+  }
+  // A domain of half-width h/4 straddles a node line for half of the positions.
+  EXPECT_NEAR(static_cast<double>(three) / total, 0.5, 0.06);
+}
+
 } // namespace
 } // namespace talus
