@@ -153,8 +153,10 @@ double Simulation<D>::compute_time_step() const {
     }
   }
   if (bad.load() != P.size()) report_bad_particle(bad.load());
-  double dt = case_data_.simulation.dt ? *case_data_.simulation.dt
-                                       : case_data_.simulation.cfl * grid_.h / max_speed;
+  const double cfl = settling_ && case_data_.initial_state.settle_cfl
+                         ? *case_data_.initial_state.settle_cfl
+                         : case_data_.simulation.cfl;
+  double dt = case_data_.simulation.dt ? *case_data_.simulation.dt : cfl * grid_.h / max_speed;
   return std::min(dt, case_data_.simulation.dt_max);
 }
 

@@ -162,6 +162,9 @@ struct InitialState {
   // they have their own, so the settled state already carries any local slip that the weight
   // causes where the bond is weaker than the traction (still nothing degrades).
   bool hold_interfaces = true;
+  // CFL number while settling (default: simulation.cfl). The settling is damped and quasi-static:
+  // a larger number reaches the same rest in fewer steps.
+  std::optional<double> settle_cfl;
 };
 
 // Headline figures of a run (summary.json "results"): the motion of one body and its probes.

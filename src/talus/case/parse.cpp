@@ -846,6 +846,14 @@ Case parse_case_text(const std::string& text, const std::string& path,
             c.initial_state.settle_damping >= 0.0 && c.initial_state.settle_damping < 1.0,
             "must be in [0, 1)");
     c.initial_state.hold_interfaces = ri.boolean("hold_interfaces", true);
+    c.initial_state.settle_cfl = ri.optional_number("settle_cfl");
+    if (c.initial_state.settle_cfl) {
+      require(ri, "settle_cfl",
+              *c.initial_state.settle_cfl > 0.0 && *c.initial_state.settle_cfl <= 1.0,
+              "must be in (0, 1]");
+      if (c.simulation.dt)
+        ri.fail("settle_cfl", "has no effect with a fixed simulation.dt: remove one");
+    }
     ri.finish();
   }
 
