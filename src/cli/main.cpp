@@ -55,7 +55,14 @@ int check(const talus::Case& c) {
   const double cfl_dt =
       std::min(c.simulation.dt_max, c.simulation.cfl * c.grid.cell_size / max_wave);
   const double dt = c.simulation.dt ? *c.simulation.dt : cfl_dt;
-  const double steps = std::ceil(c.simulation.end_time / dt);
+  // Settling runs first, at its own CFL number (a fixed dt applies to both).
+  const double settle_dt =
+      c.simulation.dt
+          ? dt
+          : std::min(c.simulation.dt_max, c.initial_state.settle_cfl.value_or(c.simulation.cfl) *
+                                              c.grid.cell_size / max_wave);
+  const double steps =
+      std::ceil(c.simulation.end_time / dt) + std::ceil(c.initial_state.settle_time / settle_dt);
   // The velocity fields span each body's box: bounded here by the whole grid per body.
   const double memory =
       total * talus::bytes_per_particle(dim) +
@@ -63,8 +70,11 @@ int check(const talus::Case& c) {
   constexpr double assumed_rate = 5e6; // particle-updates/s on 2 threads (docs/performance.md)
   fmt::print("  {} particles, {:.0f} grid nodes ({}D, cell {} m)\n", total, nodes, dim,
              c.grid.cell_size);
-  fmt::print("  time step {:.3g} s ({}), about {:.3g} steps to {} s\n", dt,
-             c.simulation.dt ? "fixed" : "CFL at rest", steps, c.simulation.end_time);
+  fmt::print("  time step {:.3g} s ({}), about {:.3g} steps to {} s{}\n", dt,
+             c.simulation.dt ? "fixed" : "CFL at rest", steps, c.simulation.end_time,
+             c.initial_state.settle_time > 0.0
+                 ? fmt::format(" after {} s of settling", c.initial_state.settle_time)
+                 : std::string());
   fmt::print("  memory at most about {:.1f} MB (this machine: {:.1f} GB); run time about {:.3g} "
              "s at {:.0e} particle-updates/s\n",
              memory / 1e6, talus::machine_memory() / 1e9, total * steps / assumed_rate,

@@ -15,7 +15,8 @@ enum class ShapeKind { linear, gimp };
 // direction only while the particle's domain (half-width lp) straddles a node line; otherwise
 // the third node's weight is exactly zero and the record keeps 2 (k[d]), so the transfers visit
 // the nodes with weight and no others (with lp = h/4: 2.5 x 2.5 of the 3 x 3 nodes on average in
-// 2D). The sums are bitwise those of a 3 x 3 walk, which only added zeros.
+// 2D). The sums are bitwise those of a 3 x 3 walk, which only added zeros (unless a node's value
+// is already NaN or infinite, which the run's particle check reports anyway).
 // Not zero-filled on construction (that cost a quarter of evaluate_shape): evaluate_shape writes
 // every entry that for_each_node reads (the first k[d] per direction).
 template <int D>

@@ -142,13 +142,14 @@ double Simulation<D>::compute_time_step() const {
   double max_speed = 0.0;
   std::atomic<std::size_t> bad{P.size()};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
+  const bool fixed = case_data_.simulation.dt.has_value(); // then only the check
   for (int b = 0; b < P.num_bodies(); ++b) {
     // A rigid body carries no stress wave: only its speed counts.
     const double modulus = case_data_.bodies[b].rigid ? 0.0 : body_material_[b].p_wave_modulus();
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
 #pragma omp parallel for reduction(max : max_speed) schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
-      max_speed = std::max(max_speed, wave_speed(p, modulus) + P.v[p].norm());
+      if (!fixed) max_speed = std::max(max_speed, wave_speed(p, modulus) + P.v[p].norm());
       if (!particle_ok(p, lo, hi)) record_bad(bad, static_cast<std::size_t>(p));
     }
   }
@@ -853,7 +854,13 @@ template <int D>
 void Simulation<D>::step(double dt_limit) {
   const auto t0 = Clock::now();
   const double stable = compute_time_step(); // also stops at a particle gone bad
-  if (dt_reference_ == 0.0 && std::isfinite(stable)) dt_reference_ = stable;
+  if (dt_reference_ == 0.0 && std::isfinite(stable)) {
+    // The reference is a step of the motion: a settling step at settle_cfl is scaled to cfl.
+    const auto& settle_cfl = case_data_.initial_state.settle_cfl;
+    dt_reference_ = settling_ && settle_cfl && !case_data_.simulation.dt
+                        ? stable * case_data_.simulation.cfl / *settle_cfl
+                        : stable;
+  }
   const double floor = case_data_.simulation.dt_min.value_or(1e-4 * dt_reference_);
   if (!case_data_.simulation.dt && stable < floor) report_time_step_collapse(stable, floor);
   dt_ = std::min(stable, dt_limit);

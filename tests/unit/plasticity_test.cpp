@@ -248,6 +248,42 @@ TEST(Plasticity, PlaneStrainReturnsAreCoaxialAndPreparingChangesNothing) {
   EXPECT_GT(plastic, 1000);
 }
 
+// The plane-strain pre-check that skips Principal's square root for clearly elastic stresses
+// must never pass a stress that the exact check (principal values, tolerance 1e-12) rejects, and
+// should pass nearly every stress inside the surface. Random plane stresses around the surface and
+// the cut-off, with the angle, the cohesion and the cut-off varied (also no cut-off and phi 0).
+TEST(MohrCoulomb, PlaneStrainPreCheckPassesOnlyElasticStresses) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int inside = 0, passed = 0;
+  for (const double phi : {0.0, 20.0, 30.0, 45.0})
+    for (const double cutoff : {1.0, 20e3, double(INFINITY)}) {
+      const double c = 30e3, scale = 2e5;
+      const double sp = std::sin(phi * deg), cp = std::cos(phi * deg), K = 2.0 * c * cp;
+      const double t = std::min(cutoff, sp > 0.0 ? c * cp / sp : cutoff);
+      for (int i = 0; i < 20000; ++i) {
+        Voigt s = Voigt::Zero();
+        for (int k = 0; k < 4; ++k)
+          s[k] = scale * (k < 3 ? u(rng) - 0.3 : 0.3 * u(rng));
+        const Eigen::Vector3d p = principal(s);
+        const double f = (1 + sp) * p[0] - (1 - sp) * p[2] - K;
+        const bool exact = f <= 0.0 && p[0] <= t;
+        const bool pre = mc_detail::clearly_elastic_plane(s, sp, K, t);
+        if (pre) {
+          ++passed;
+          EXPECT_TRUE(exact) << "phi " << phi << " cut-off " << cutoff << " sample " << i;
+        }
+        // Inside by a margin of 1e-6 of the scale: the pre-check must see it.
+        if (f < -1e-6 * scale && p[0] < t - 1e-6 * scale) {
+          ++inside;
+          EXPECT_TRUE(pre) << "phi " << phi << " cut-off " << cutoff << " sample " << i;
+        }
+      }
+    }
+  EXPECT_GT(inside, 10000);
+  EXPECT_GE(passed, inside);
+}
+
 // Plastic strain increment C^-1 (trial - sigma): parallel to the flow direction.
 Voigt plastic_strain(double K, double G, const Voigt& trial, const Voigt& s) {
   const Voigt ds = trial - s;

@@ -163,7 +163,7 @@ struct InitialState {
   // causes where the bond is weaker than the traction (still nothing degrades).
   bool hold_interfaces = true;
   // CFL number while settling (default: simulation.cfl). The settling is damped and quasi-static:
-  // a larger number reaches the same rest in fewer steps.
+  // a larger number reaches a similar rest in fewer steps.
   std::optional<double> settle_cfl;
 };
 

@@ -101,6 +101,28 @@ struct Principal {
   }
 };
 
+// A plane-strain stress (no out-of-plane shear) that lies clearly inside the Mohr-Coulomb surface
+// and below the cut-off t, decided without the square root and the sort of Principal: with the
+// in-plane mean c_m, radius r and sigma_zz = z, s1 = max(c_m + r, z) and s3 = min(c_m - r, z).
+// The yield function f(s1, s3) = (1 + sp) s1 - (1 - sp) s3 grows with s1 and falls with s3, so
+// f(s1, s3) <= K = 2 c cos(phi) holds iff it holds for each of the four pairings of
+// {c_m + r, z} with {c_m - r, z}; each pairing with r in it bounds r from above. So: z <= t,
+// 2 sp z <= K and r <= X (the least of the bounds and of t - c_m), checked as r^2 <= X^2 with a
+// relative margin of 1e-9 that keeps every stress near the surface for the exact check, which
+// has a looser tolerance (1e-12): a stress passed here is one the exact check also passes, so
+// the result is bitwise that of the exact check alone.
+inline bool clearly_elastic_plane(const Voigt& sigma, double sp, double K, double t) {
+  const double cm = 0.5 * (sigma[0] + sigma[1]), d = 0.5 * (sigma[0] - sigma[1]);
+  const double z = sigma[2];
+  const double r2 = d * d + sigma[3] * sigma[3];
+  if (!(z < t) || !(2.0 * sp * z < K)) return false;
+  const double a = 1.0 + sp, b = 1.0 - sp, margin = 1.0 - 1e-9;
+  // Each bound as k r <= Y with k > 0: Y > 0 and k^2 r^2 < Y^2 (no division).
+  auto below = [&](double k, double Y) { return Y > 0.0 && k * k * r2 < margin * Y * Y; };
+  return below(1.0, 0.5 * K - sp * cm) && below(a, K + b * z - a * cm) &&
+         below(b, K - a * z + b * cm) && below(1.0, t - cm);
+}
+
 } // namespace mc_detail
 
 // Returns the trial stress to the Mohr-Coulomb surface with tension cut-off; returns the
@@ -110,8 +132,12 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
   using mc_detail::V3;
   double c, sp, cp, sd;
   mat.strength.current_trig(eps_p, c, sp, cp, sd);
-  const double t =
-      std::min(mat.strength.tension_cutoff, sp > 0.0 ? c * cp / sp : mat.strength.tension_cutoff);
+  const double t = mat.strength.fixed ? mat.strength.fixed->tension_limit
+                                      : mat.strength.tension_limit(c, sp, cp);
+  // Most calls end here: clearly elastic, found without Principal's square root.
+  if (sigma[4] == 0.0 && sigma[5] == 0.0 &&
+      mc_detail::clearly_elastic_plane(sigma, sp, 2.0 * c * cp, t))
+    return 0.0;
   // Inside the main plane (sextant s1 >= s2 >= s3) and below the cut-off.
   auto inside = [&](const V3& s, double tol) {
     return (1 + sp) * s[0] - (1 - sp) * s[2] - 2 * c * cp <= tol && s[0] <= t + tol;

@@ -29,12 +29,21 @@ struct MohrCoulombStrength {
   // (the solver prepares every body's material), and current_trig() uses them.
   struct Trig {
     double sin_phi, cos_phi, sin_psi;
+    double tension_limit; // Mohr-Coulomb's: tension_limit(cohesion, sin_phi, cos_phi)
   };
   std::optional<Trig> fixed;
   void prepare() { // call last: it snapshots the current angles
     fixed.reset();
-    if (softening_strain <= 0.0)
-      fixed = Trig{std::sin(friction_angle), std::cos(friction_angle), std::sin(dilation_angle)};
+    if (softening_strain <= 0.0) {
+      const double sp = std::sin(friction_angle), cp = std::cos(friction_angle);
+      fixed = Trig{sp, cp, std::sin(dilation_angle), tension_limit(cohesion, sp, cp)};
+    }
+  }
+
+  // The largest major principal stress Mohr-Coulomb allows: the cut-off, or the apex of the
+  // pyramid (c cos(phi) / sin(phi)) if that is lower.
+  double tension_limit(double c, double sp, double cp) const {
+    return std::min(tension_cutoff, sp > 0.0 ? c * cp / sp : tension_cutoff);
   }
 
   // The cohesion c, sin(phi), cos(phi) and sin(psi) at equivalent plastic strain eps_p.
