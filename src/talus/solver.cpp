@@ -134,31 +134,26 @@ double Simulation<D>::wave_speed(std::int64_t p, double modulus) const {
   return std::sqrt(modulus * P.vol[p] / P.m[p]);
 }
 
-// One pass over the particles: the stable time step (CFL on the P-wave speed plus the particle
-// speed) and the check for a particle gone bad (see check_particles), which it reports.
+// The stable time step: CFL on the P-wave speed plus the particle speed, one pass over the
+// particles, unless the case fixes dt.
 template <int D>
 double Simulation<D>::compute_time_step() const {
   const auto& P = particles_;
+  if (case_data_.simulation.dt)
+    return std::min(*case_data_.simulation.dt, case_data_.simulation.dt_max);
   double max_speed = 0.0;
-  std::atomic<std::size_t> bad{P.size()};
-  const Vec<D> lo = grid_.origin, hi = grid_.upper();
-  const bool fixed = case_data_.simulation.dt.has_value(); // then only the check
   for (int b = 0; b < P.num_bodies(); ++b) {
     // A rigid body carries no stress wave: only its speed counts.
     const double modulus = case_data_.bodies[b].rigid ? 0.0 : body_material_[b].p_wave_modulus();
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
 #pragma omp parallel for reduction(max : max_speed) schedule(static)
-    for (std::int64_t p = begin; p < end; ++p) {
-      if (!fixed) max_speed = std::max(max_speed, wave_speed(p, modulus) + P.v[p].norm());
-      if (!particle_ok(p, lo, hi)) record_bad(bad, static_cast<std::size_t>(p));
-    }
+    for (std::int64_t p = begin; p < end; ++p)
+      max_speed = std::max(max_speed, wave_speed(p, modulus) + P.v[p].norm());
   }
-  if (bad.load() != P.size()) report_bad_particle(bad.load());
   const double cfl = settling_ && case_data_.initial_state.settle_cfl
                          ? *case_data_.initial_state.settle_cfl
                          : case_data_.simulation.cfl;
-  double dt = case_data_.simulation.dt ? *case_data_.simulation.dt : cfl * grid_.h / max_speed;
-  return std::min(dt, case_data_.simulation.dt_max);
+  return std::min(cfl * grid_.h / max_speed, case_data_.simulation.dt_max);
 }
 
 // The CFL step fell below its floor: name the particle that sets it (fastest wave plus speed).
@@ -185,9 +180,7 @@ void Simulation<D>::report_time_step_collapse(double stable, double floor) const
 
 template <int D>
 bool Simulation<D>::particle_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const {
-  const auto& P = particles_;
-  return P.x[p].allFinite() && P.v[p].allFinite() && P.stress[p].allFinite() &&
-         (P.x[p].array() >= lo.array()).all() && (P.x[p].array() <= hi.array()).all();
+  return motion_ok(p, lo, hi) && particles_.stress[p].allFinite();
 }
 
 template <int D>
@@ -431,7 +424,8 @@ void Simulation<D>::scatter_particles() {
   scatter([&](std::uint32_t p, int b) {
     const int f = P.field[p]; // b, or the host of an orphan
     BodyField<D>& N = fields_[f];
-    const ShapeWeights<D>& sw = shape_[p] = evaluate_shape(N.box, kind, body_gimp_[b], P.x[p]);
+    ShapeWeights<D>& sw = shape_[p];
+    evaluate_shape(sw, N.box, kind, body_gimp_[b], P.x[p]);
     const double m_p = P.m[p];
     const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
@@ -512,6 +506,8 @@ void Simulation<D>::update_velocities_and_remap(double dt) {
   assert_shape_current();
   for (auto& N : fields_)
     std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
+  std::atomic<std::size_t> gone{no_particle};
+  const Vec<D> lo = grid_.origin, hi = grid_.upper();
   scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[P.field[p]];
     const ShapeWeights<D>& sw = shape_[p];
@@ -528,10 +524,12 @@ void Simulation<D>::update_velocities_and_remap(double dt) {
       P.x[p] += 0.5 * dt * (v_old + v_new);
       if (P.field[p] == b) gather_slip(p, N, sw, dt);
     }
+    if (!motion_ok(p, lo, hi)) record_bad(gone, p);
     const Vec<D> mv_p = P.m[p] * P.v[p];
     for_each_node(N.box, sw,
                   [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
   });
+  bad_particle_ = std::min(bad_particle_, gone.load());
   // The re-mapped velocity p/m of every body, with the velocity conditions and rigid motions.
   for (int b = 0; b < num_bodies(); ++b) {
     BodyField<D>& N = fields_[b];
@@ -785,7 +783,8 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
   assert_shape_current();
   const double max_J = body_material_[b].max_volume_ratio;
   const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-  std::atomic<std::size_t> bad{P.size()};
+  std::atomic<std::size_t> bad{P.size()}, gone{no_particle};
+  const Vec<D> lo = grid_.origin, hi = grid_.upper();
   // Particles go in fixed chunks so that the stress work sums in an order that does not depend
   // on the thread count (chunk sums, then the chunks in order).
   const std::int64_t chunks = (end - begin + work_chunk - 1) / work_chunk;
@@ -798,6 +797,8 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
       if (rigid) { // prescribed motion; no stress
         if constexpr (velocity) P.v[p] = rigid_velocity_[b];
         if constexpr (move) P.x[p] += dt * rigid_velocity_[b];
+        if constexpr (velocity || move)
+          if (!motion_ok(p, lo, hi)) record_bad(gone, static_cast<std::size_t>(p));
         continue;
       }
       const ShapeWeights<D>& sw = shape_[p];
@@ -817,6 +818,8 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
         if (P.field[p] == b) gather_slip(static_cast<std::size_t>(p), N, sw, dt);
       }
       if constexpr (move) P.x[p] += 0.5 * dt * (v_old + v_new);
+      if constexpr (velocity || move)
+        if (!motion_ok(p, lo, hi)) record_bad(gone, static_cast<std::size_t>(p));
       if (model) {
         P.F[p] = (Mat<D>::Identity() + L * dt) * P.F[p];
         double J = P.F[p].determinant();
@@ -835,6 +838,7 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
         const Voigt s = 0.5 * (vol_old * sigma_old + P.vol[p] * P.stress[p]);
         work += dt * (s[0] * D3(0, 0) + s[1] * D3(1, 1) + s[2] * D3(2, 2) +
                       2.0 * (s[3] * D3(0, 1) + s[4] * D3(1, 2) + s[5] * D3(0, 2)));
+        if (!P.stress[p].allFinite()) record_bad(gone, static_cast<std::size_t>(p));
       }
     }
     chunk_work_[c] = work;
@@ -842,6 +846,7 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
   if (model && !rigid)
     for (std::int64_t c = 0; c < chunks; ++c)
       internal_work_[b] += chunk_work_[c];
+  bad_particle_ = std::min(bad_particle_, gone.load());
   if (const std::size_t p = bad.load(); p != P.size())
     throw SimulationError(fmt::format(
         "step {}, time {:.6g} s: body '{}', particle {} (id {}) at ({}): det F = {:.3g} <= 0 "
@@ -853,7 +858,8 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
 template <int D>
 void Simulation<D>::step(double dt_limit) {
   const auto t0 = Clock::now();
-  const double stable = compute_time_step(); // also stops at a particle gone bad
+  if (!particles_checked_) check_particles(), particles_checked_ = true;
+  const double stable = compute_time_step();
   if (dt_reference_ == 0.0 && std::isfinite(stable)) {
     // The reference is a step of the motion: a settling step at settle_cfl is scaled to cfl.
     const auto& settle_cfl = case_data_.initial_state.settle_cfl;
@@ -917,6 +923,8 @@ void Simulation<D>::step(double dt_limit) {
   impulse_time_ += dt_;
   time_ += dt_;
   ++steps_;
+  // Before anything reads the new state (output, checkpoint, the next step).
+  if (bad_particle_ != no_particle) report_bad_particle(bad_particle_);
 }
 
 template <int D>

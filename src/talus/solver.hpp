@@ -12,6 +12,7 @@
 #include "talus/shape.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -51,6 +52,8 @@ public:
   explicit Simulation(const Case& c);
 
   // Advances one step of at most dt_limit (so output times and the end time are hit exactly).
+  // Throws SimulationError naming the step, time and first particle that went bad (a non-finite
+  // position, velocity or stress, a particle off the grid, det F <= 0).
   void step(double dt_limit = inf);
 
   double time() const { return time_; }
@@ -105,8 +108,7 @@ public:
   bool settling() const { return settling_; }
   void release();
 
-  // The stable time step of the current state (CFL) or the fixed one; throws SimulationError
-  // naming the first particle gone bad (as check_particles), in the same pass.
+  // The stable time step of the current state (CFL) or the fixed one.
   double compute_time_step() const;
   // Current index of the particle with stable id `id`.
   std::size_t index_of(std::uint32_t id) const { return index_of_id_[id]; }
@@ -133,7 +135,8 @@ public:
 
   // Initial conditions that a case file cannot express (tests set a velocity field here).
   Particles<D>& particles_mut() {
-    shape_step_ = -1; // the caller may move particles
+    shape_step_ = -1;           // the caller may move particles
+    particles_checked_ = false; // and the next step checks them all
     return particles_;
   }
 
@@ -167,6 +170,12 @@ private:
   double wave_speed(std::int64_t p, double modulus) const;
   // Finite position, velocity and stress, inside [lo, hi]; and the error naming what is not.
   bool particle_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const;
+  // Position and velocity finite, the particle inside [lo, hi] (checked in the passes that move).
+  bool motion_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const {
+    const auto& P = particles_;
+    return P.x[p].allFinite() && P.v[p].allFinite() && (P.x[p].array() >= lo.array()).all() &&
+           (P.x[p].array() <= hi.array()).all();
+  }
   [[noreturn]] void report_bad_particle(std::size_t p) const;
   // P2G with its options fixed at compile time (see map_particles_to_nodes).
   template <bool with_forces, bool with_contact>
@@ -239,6 +248,14 @@ private:
   double dt_reference_ = 0.0; // the first stable step: the floor is a fraction of it
   std::int64_t steps_ = 0;
   int sort_interval_ = 20;
+  // The particle check rides on the transfers: the pass that moves a particle checks its position
+  // and velocity, the stress pass its stress, and the least bad index is kept here; the step's
+  // end reports it (step, time and particle), before output or a checkpoint can read the state.
+  // A state the transfers did not make (the case's, a checkpoint's, a test's) is checked whole
+  // at the next step's start.
+  static constexpr std::size_t no_particle = std::numeric_limits<std::size_t>::max();
+  std::size_t bad_particle_ = no_particle;
+  bool particles_checked_ = false;
   bool settling_ = false;
   std::vector<std::uint32_t> index_of_id_;
   PhaseTimes phase_times_;

@@ -85,6 +85,13 @@ summary = json.loads((out / "summary.json").read_text())
 check(summary["status"] == "failed" and "particle" in summary.get("message", ""),
       f"unstable: summary.json status {summary['status']}")
 folder_intact(out, "unstable")
+# The step that went bad stops the run before any output reads its state: every frame written
+# (one per step here) is finite.
+import numpy as np
+for vtu in sorted(out.glob("particles_*.vtu")):
+    mesh = meshio.read(vtu)
+    arrays = [mesh.points, *mesh.point_data.values()]
+    check(all(np.isfinite(a).all() for a in arrays), f"unstable: {vtu.name} holds a non-finite value")
 
 # 2. The CFL step collapsing below its floor.
 out = fresh("collapse")

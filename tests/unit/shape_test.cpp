@@ -146,9 +146,10 @@ TYPED_TEST(ShapeTest, GimpWalksExactlyTheNodesWithWeight) {
     EXPECT_EQ(visited, with_weight) << "trial " << trial;
     EXPECT_EQ(trimmed.first, untrimmed.first) << "trial " << trial;
     EXPECT_TRUE(trimmed.second == untrimmed.second) << "trial " << trial;
-    if (trial == 0)
+    if (trial == 0) {
       for (int d = 0; d < D; ++d)
         EXPECT_EQ(sw.k[d], 2);
+    }
   }
   // A domain of half-width h/4 straddles a node line for half of the positions.
   EXPECT_NEAR(static_cast<double>(three) / total, 0.5, 0.06);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <limits>
 #include <memory>
 #include <random>
 #ifdef _OPENMP
@@ -122,6 +123,43 @@ TEST(TimeStep, DilatedParticleSetsTheStep) {
   EXPECT_NEAR(dt0, 0.4 * 0.1 / c0, 1e-12);
   sim.particles_mut().vol[7] *= 5.0;
   EXPECT_NEAR(sim.compute_time_step(), dt0 / std::sqrt(5.0), 1e-12);
+}
+
+// A run that goes bad stops with the step, time and particle: a bad state handed to the solver
+// at its next step's start, and a state a step makes (here every particle carried off the grid in
+// one step of 1 ms at 2 km/s) at the end of that step, before output or a checkpoint reads it.
+TEST(BadState, StopsWithTheStepThatMadeIt) {
+  for (const char* scheme : {"usf", "usl", "musl"})
+    for (const char* shape : {"linear", "gimp"}) {
+      const std::string text = block_case<2>(shape, scheme, 1.0);
+      const std::vector<std::string> fixed_dt{"simulation.dt=1e-3"};
+      auto message = [&](auto&& spoil) {
+        Simulation<2> sim(test::case_from(text, fixed_dt));
+        spoil(sim.particles_mut());
+        try {
+          sim.step();
+          sim.step();
+        } catch (const SimulationError& e) {
+          return std::string(e.what());
+        }
+        return std::string("(no error)");
+      };
+      const std::string ctx = std::string(scheme) + ", " + shape;
+      std::string m = message([](Particles<2>& P) { P.v[7][1] = std::nan(""); });
+      EXPECT_NE(m.find("step 0,"), std::string::npos) << ctx << ": " << m;
+      EXPECT_NE(m.find("particle 7 "), std::string::npos) << ctx << ": " << m;
+      EXPECT_NE(m.find("velocity is not finite"), std::string::npos) << ctx << ": " << m;
+      m = message(
+          [](Particles<2>& P) { P.stress[3][0] = std::numeric_limits<double>::infinity(); });
+      EXPECT_NE(m.find("particle 3 "), std::string::npos) << ctx << ": " << m;
+      EXPECT_NE(m.find("stress is not finite"), std::string::npos) << ctx << ": " << m;
+      m = message([](Particles<2>& P) {
+        for (auto& v : P.v)
+          v = Vec<2>(2000.0, 0.0);
+      });
+      EXPECT_NE(m.find("step 1, time 0.001 s"), std::string::npos) << ctx << ": " << m;
+      EXPECT_NE(m.find("left the grid"), std::string::npos) << ctx << ": " << m;
+    }
 }
 
 // material.max_volume_ratio: a particle stretched past the limit keeps J = limit, its deformation

@@ -125,19 +125,14 @@ inline bool clearly_elastic_plane(const Voigt& sigma, double sp, double K, doubl
 
 } // namespace mc_detail
 
-// Returns the trial stress to the Mohr-Coulomb surface with tension cut-off; returns the
-// equivalent plastic strain increment (0 if elastic).
-inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, double eps_p) {
-  using mc_detail::Plane;
-  using mc_detail::V3;
-  double c, sp, cp, sd;
-  mat.strength.current_trig(eps_p, c, sp, cp, sd);
-  const double t = mat.strength.fixed ? mat.strength.fixed->tension_limit
-                                      : mat.strength.tension_limit(c, sp, cp);
-  // Most calls end here: clearly elastic, found without Principal's square root.
-  if (sigma[4] == 0.0 && sigma[5] == 0.0 &&
-      mc_detail::clearly_elastic_plane(sigma, sp, 2.0 * c * cp, t))
-    return 0.0;
+namespace mc_detail {
+
+// The return of a stress that the quick check did not pass (c, sin phi, cos phi, sin psi and the
+// tension limit t at the particle's plastic strain): principal values, then the active planes.
+// Kept out of line, so that return_to_mohr_coulomb, which most calls leave at the quick elastic
+// check, is small enough for the compiler to inline into the stress pass.
+[[gnu::noinline]] inline double return_to_surface(const MohrCoulomb& mat, Voigt& sigma, double c,
+                                                  double sp, double cp, double sd, double t) {
   // Inside the main plane (sextant s1 >= s2 >= s3) and below the cut-off.
   auto inside = [&](const V3& s, double tol) {
     return (1 + sp) * s[0] - (1 - sp) * s[2] - 2 * c * cp <= tol && s[0] <= t + tol;
@@ -180,6 +175,22 @@ inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, doubl
   const Voigt trial_voigt = sigma;
   sigma = principal.stress(s);
   return plastic_strain_increment(K, G, trial_voigt, sigma);
+}
+
+} // namespace mc_detail
+
+// Returns the trial stress to the Mohr-Coulomb surface with tension cut-off; returns the
+// equivalent plastic strain increment (0 if elastic).
+inline double return_to_mohr_coulomb(const MohrCoulomb& mat, Voigt& sigma, double eps_p) {
+  double c, sp, cp, sd;
+  mat.strength.current_trig(eps_p, c, sp, cp, sd);
+  const double t = mat.strength.fixed ? mat.strength.fixed->tension_limit
+                                      : mat.strength.tension_limit(c, sp, cp);
+  // Most calls end here: clearly elastic, found without Principal's square root.
+  if (sigma[4] == 0.0 && sigma[5] == 0.0 &&
+      mc_detail::clearly_elastic_plane(sigma, sp, 2.0 * c * cp, t))
+    return 0.0;
+  return mc_detail::return_to_surface(mat, sigma, c, sp, cp, sd, t);
 }
 
 inline void update_stress(const MohrCoulomb& mat, Voigt& sigma, double& eps_p, const Mat3& D,
