@@ -37,6 +37,9 @@ struct ContactNode {
   double friction_impulse[max_bodies_at_node]{};
   double cohesion_impulse[max_bodies_at_node]{};
   double normal_impulse[max_bodies_at_node]{};
+  // Whether the body is held against the others here: corrected, and not a bond opened past its
+  // tensile capacity. Only such nodes measure an interface's slip.
+  bool closed[max_bodies_at_node]{};
 };
 
 // Settings of the contact law.
@@ -76,6 +79,7 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
     c[k].setZero();
     node.normal[k].setZero();
     node.friction_impulse[k] = node.cohesion_impulse[k] = node.normal_impulse[k] = 0.0;
+    node.closed[k] = false;
     if (node.rigid[k]) continue;
     // The contact normal, outward from body k. A rigid body's exact geometric normal if known.
     // Two bodies: the mass gradient of the master body (the larger rank, i.e. the body with more
@@ -124,6 +128,7 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
     const double t_corr = resist >= t ? t : resist;
     c[k] = dn_corr * normal + (t > 0.0 ? Vec<D>((t_corr / t) * dv_t) : Vec<D>::Zero());
     if (c[k].isZero()) continue;
+    node.closed[k] = dn_corr != 0.0 || dn >= 0.0;
     node.normal_impulse[k] = node.m[k] * std::max(dn_corr, 0.0);
     node.friction_impulse[k] = node.m[k] * std::min(t_corr, friction_dv);
     node.cohesion_impulse[k] = node.m[k] * (t_corr - std::min(t_corr, friction_dv));

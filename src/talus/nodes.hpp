@@ -23,8 +23,9 @@ struct BodyField {
   std::vector<Vec<D>> v_new;   // velocity at the end of the step, v_I^{n+1} (eq. 20, 31-36)
   std::vector<Vec<D>> v_remap; // MUSL: velocity re-mapped from the updated particles
   // Interface particles' contributions (paper eq. 37): sum N c^p A^p, sum N t^p A^p (tensile),
-  // sum N mu^p A^p and sum N A^p; and the slip rate found by contact, gathered back as slip.
-  std::vector<double> cohesion, tension, friction_area, area, slip_rate;
+  // sum N mu^p A^p and sum N A^p; and the slip rate found by contact with its weight (the other
+  // body's share of the node's mass where the node is closed), gathered back as slip.
+  std::vector<double> cohesion, tension, friction_area, area, slip_rate, slip_weight;
 
   // Which of the optional arrays the run uses: contact (grad_m, mx: two or more bodies),
   // interfaces (the five interface arrays) and MUSL's re-map (v_remap). Arrays a run does not
@@ -56,7 +57,7 @@ struct BodyField {
     clear(f, Vec<D>::Zero());
     if (needs.contact) clear(grad_m, Vec<D>::Zero()), clear(mx, Vec<D>::Zero());
     if (needs.interfaces)
-      for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate})
+      for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate, &slip_weight})
         clear(*a, 0.0);
   }
 

@@ -63,6 +63,33 @@ TEST(Contact, SeparatingBodiesAreLeftAlone) {
   EXPECT_EQ(node.v[0], Vec<2>(1.0, 2.0));
 }
 
+// A bonded node holds a separation up to its tensile capacity and is then closed (it measures
+// the interface's slip); past it the bond opens and the node no longer counts as closed.
+TEST(Contact, BondIsClosedUntilItsTensileCapacityIsExceeded) {
+  ContactNode<2> approach = two_bodies(0.2);
+  ASSERT_TRUE(resolve_contact(approach, ContactLaw{-1.0, 1.0}, 1.0));
+  EXPECT_TRUE(approach.closed[0] && approach.closed[1]);
+  // Body 0 pulls away: relative to the centre of mass it separates at 1.5 along the normal.
+  // The tensile capacity as a velocity change is tension * dt / m: 4 / 2 = 2 holds it for body
+  // 0 (and 4 / 6 for body 1, which separates at 0.5: held too).
+  ContactNode<2> held = two_bodies(0.2);
+  held.v[0] = Vec<2>(1.0, 2.0);
+  for (int k = 0; k < 2; ++k)
+    held.tension[k] = 4.0, held.cohesion[k] = 1.0;
+  ASSERT_TRUE(resolve_contact(held, ContactLaw{-1.0, 1.0}, 1.0));
+  EXPECT_TRUE(held.closed[0] && held.closed[1]);
+  EXPECT_NEAR(held.v[0][1], held.v[1][1], 1e-14); // the separation is removed
+  // 2 / 2 = 1 < 1.5: body 0's bond opens (its tangential 0.75 is still resisted by the cohesive
+  // capacity 1 / 2, so it is corrected, but it is not closed).
+  ContactNode<2> opened = two_bodies(0.2);
+  opened.v[0] = Vec<2>(1.0, 2.0);
+  for (int k = 0; k < 2; ++k)
+    opened.tension[k] = 2.0, opened.cohesion[k] = 1.0;
+  resolve_contact(opened, ContactLaw{-1.0, 1.0}, 1.0);
+  EXPECT_FALSE(opened.closed[0]);
+  EXPECT_GT(opened.v[0][1] - opened.v[1][1], 0.0); // still separating
+}
+
 TEST(Contact, GapCheckIgnoresBodiesThatAreStillApart) {
   ContactNode<2> node = two_bodies(0.0);
   node.x[0] = Vec<2>(0.0, 0.5); // mean positions 1.5 cells apart along the normal
