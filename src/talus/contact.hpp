@@ -37,9 +37,11 @@ struct ContactNode {
   double friction_impulse[max_bodies_at_node]{};
   double cohesion_impulse[max_bodies_at_node]{};
   double normal_impulse[max_bodies_at_node]{};
-  // Whether the body is held against the others here: corrected, and not a bond opened past its
-  // tensile capacity. Only such nodes measure an interface's slip.
+  // Whether the body is held against the others here (corrected, and not a bond opened past its
+  // tensile capacity), and whether it is a bond opened past its tensile capacity (corrected or
+  // not). These nodes, and only these, measure an interface's slip.
   bool closed[max_bodies_at_node]{};
+  bool opened[max_bodies_at_node]{};
 };
 
 // Settings of the contact law.
@@ -79,7 +81,7 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
     c[k].setZero();
     node.normal[k].setZero();
     node.friction_impulse[k] = node.cohesion_impulse[k] = node.normal_impulse[k] = 0.0;
-    node.closed[k] = false;
+    node.closed[k] = node.opened[k] = false;
     if (node.rigid[k]) continue;
     // The contact normal, outward from body k. A rigid body's exact geometric normal if known.
     // Two bodies: the mass gradient of the master body (the larger rank, i.e. the body with more
@@ -119,6 +121,7 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
     }
     // Normal: remove the approach; a bond also removes a separation up to its tensile capacity.
     const double dn_corr = dn > 0.0 ? dn : (-dn <= tension_dv ? dn : 0.0);
+    node.opened[k] = bonded && dn < 0.0 && dn_corr == 0.0;
     const Vec<D> dv_t = dv - dn * normal;
     const double t = dv_t.norm();
     // Tangential: friction mu * (normal approach) plus the cohesive capacity (eq. 35-37); stick if
@@ -128,7 +131,7 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
     const double t_corr = resist >= t ? t : resist;
     c[k] = dn_corr * normal + (t > 0.0 ? Vec<D>((t_corr / t) * dv_t) : Vec<D>::Zero());
     if (c[k].isZero()) continue;
-    node.closed[k] = dn_corr != 0.0 || dn >= 0.0;
+    node.closed[k] = !node.opened[k];
     node.normal_impulse[k] = node.m[k] * std::max(dn_corr, 0.0);
     node.friction_impulse[k] = node.m[k] * std::min(t_corr, friction_dv);
     node.cohesion_impulse[k] = node.m[k] * (t_corr - std::min(t_corr, friction_dv));

@@ -64,7 +64,8 @@ TEST(Contact, SeparatingBodiesAreLeftAlone) {
 }
 
 // A bonded node holds a separation up to its tensile capacity and is then closed (it measures
-// the interface's slip); past it the bond opens and the node no longer counts as closed.
+// the interface's tangential slip); past it the bond opens (it measures the whole relative
+// velocity, opening included).
 TEST(Contact, BondIsClosedUntilItsTensileCapacityIsExceeded) {
   ContactNode<2> approach = two_bodies(0.2);
   ASSERT_TRUE(resolve_contact(approach, ContactLaw{-1.0, 1.0}, 1.0));
@@ -78,6 +79,7 @@ TEST(Contact, BondIsClosedUntilItsTensileCapacityIsExceeded) {
     held.tension[k] = 4.0, held.cohesion[k] = 1.0;
   ASSERT_TRUE(resolve_contact(held, ContactLaw{-1.0, 1.0}, 1.0));
   EXPECT_TRUE(held.closed[0] && held.closed[1]);
+  EXPECT_FALSE(held.opened[0] || held.opened[1]);
   EXPECT_NEAR(held.v[0][1], held.v[1][1], 1e-14); // the separation is removed
   // 2 / 2 = 1 < 1.5: body 0's bond opens (its tangential 0.75 is still resisted by the cohesive
   // capacity 1 / 2, so it is corrected, but it is not closed).
@@ -87,7 +89,16 @@ TEST(Contact, BondIsClosedUntilItsTensileCapacityIsExceeded) {
     opened.tension[k] = 2.0, opened.cohesion[k] = 1.0;
   resolve_contact(opened, ContactLaw{-1.0, 1.0}, 1.0);
   EXPECT_FALSE(opened.closed[0]);
+  EXPECT_TRUE(opened.opened[0]);                   // its whole relative velocity counts as slip
   EXPECT_GT(opened.v[0][1] - opened.v[1][1], 0.0); // still separating
+  // Pulled straight apart past the capacity, nothing is corrected, yet the bond has opened.
+  ContactNode<2> pulled = two_bodies(0.2);
+  pulled.v[0] = Vec<2>(0.0, 2.0);
+  for (int k = 0; k < 2; ++k)
+    pulled.tension[k] = 2.0, pulled.cohesion[k] = 1.0;
+  EXPECT_FALSE(resolve_contact(pulled, ContactLaw{-1.0, 1.0}, 1.0));
+  EXPECT_TRUE(pulled.opened[0] && pulled.opened[1]);
+  EXPECT_FALSE(pulled.closed[0] || pulled.closed[1]);
 }
 
 TEST(Contact, GapCheckIgnoresBodiesThatAreStillApart) {
