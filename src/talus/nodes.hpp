@@ -23,8 +23,9 @@ struct BodyField {
   std::vector<Vec<D>> v_new;   // velocity at the end of the step, v_I^{n+1} (eq. 20, 31-36)
   std::vector<Vec<D>> v_remap; // MUSL: velocity re-mapped from the updated particles
   // Interface particles' contributions (paper eq. 37): sum N c^p A^p, sum N t^p A^p (tensile),
-  // sum N mu^p A^p and sum N A^p; and the slip rate found by contact with its weight (the other
-  // body's share of the node's mass where the node is closed), gathered back as slip.
+  // sum N mu^p A^p and sum N A^p; and the slip rate contact measured against the interface
+  // partner, with its weight 4 s (1 - s) (s: the partner's share of the two bodies' mass; only
+  // where the body is held or its bond has opened), gathered back as slip.
   std::vector<double> cohesion, tension, friction_area, area, slip_rate, slip_weight;
 
   // Which of the optional arrays the run uses: contact (grad_m, mx: two or more bodies),

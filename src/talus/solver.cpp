@@ -51,6 +51,29 @@ void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order, std::ve
 constexpr double min_slip_share = 0.05;
 constexpr double min_slip_weight = 0.05;
 
+// A body's mass gradient at node g smoothed over the nodes within `radius` cells of it, with
+// weights prod_d (radius + 1 - |o_d|) (contact.normal_smoothing, docs/formulation.md). The body's
+// box holds the gradient sums at every node within `radius` of another body's box (the scatter
+// maps them there), so every node read here is complete.
+template <int D>
+Vec<D> smoothed_gradient(const BodyField<D>& N, const Index<D>& g, int radius) {
+  Vec<D> sum = Vec<D>::Zero();
+  Index<D> o;
+  o.fill(-radius);
+  while (true) {
+    Index<D> j;
+    double w = 1.0;
+    for (int d = 0; d < D; ++d)
+      j[d] = g[d] + o[d], w *= radius + 1 - std::abs(o[d]);
+    if (const std::int64_t i = N.local(j); i >= 0) sum += w * N.grad_m[i];
+    int d = D - 1;
+    while (d >= 0 && ++o[d] > radius)
+      o[d] = -radius, --d;
+    if (d < 0) break;
+  }
+  return sum;
+}
+
 // Records the smallest bad particle index seen by any thread.
 void record_bad(std::atomic<std::size_t>& first, std::size_t p) {
   std::size_t cur = first.load();
@@ -329,7 +352,7 @@ void Simulation<D>::map_particles_to_nodes(bool with_forces) {
 
 // Whether any node in the support of sw (body b's weights) lies in another body's field box.
 template <int D>
-bool Simulation<D>::reaches_other_body(int b, const ShapeWeights<D>& sw) const {
+bool Simulation<D>::reaches_other_body(int b, const ShapeWeights<D>& sw, int margin) const {
   const BodyField<D>& N = fields_[b];
   for (int c = 0; c < static_cast<int>(fields_.size()); ++c) {
     if (c == b) continue;
@@ -337,7 +360,7 @@ bool Simulation<D>::reaches_other_body(int b, const ShapeWeights<D>& sw) const {
     bool overlap = true;
     for (int d = 0; d < D && overlap; ++d) {
       const std::int64_t first = N.offset[d] + sw.base[d], last = first + sw.k[d] - 1;
-      overlap = last >= O.offset[d] && first < O.offset[d] + O.box.nodes[d];
+      overlap = last >= O.offset[d] - margin && first < O.offset[d] + O.box.nodes[d] + margin;
     }
     if (overlap) return true;
   }
@@ -375,7 +398,7 @@ void Simulation<D>::update_orphans() {
     for (std::int64_t p = begin; p < end; ++p) {
       const int f = P.field[p];
       const ShapeWeights<D>& sw = shape_[p];
-      if (f == b && !reaches_other_body(b, sw)) continue;
+      if (f == b && !reaches_other_body(b, sw, 0)) continue;
       const BodyField<D>& H = fields_[f];
       // Body c's nodal mass at p's nodes, weighted by p's shape functions, without p's own.
       auto mass_around = [&](int c) {
@@ -448,9 +471,10 @@ void Simulation<D>::scatter_particles() {
       });
     };
     // Contact reads the mass gradient and position only at nodes another body also reaches, all
-    // inside that body's box: a particle whose nodes miss every other box (most of the Vaiont
-    // bedrock) skips them. The sums at every node contact reads are unchanged.
-    if (with_contact && reaches_other_body(f, sw))
+    // inside that body's box, and the gradient also within normal_smoothing cells of them: a
+    // particle whose nodes miss every other box so widened (most of the Vaiont bedrock) skips
+    // them. The sums at every node contact reads are unchanged.
+    if (with_contact && reaches_other_body(f, sw, case_data_.contact.normal_smoothing))
       map.template operator()<true>();
     else
       map.template operator()<false>();
@@ -485,11 +509,13 @@ void Simulation<D>::map_forces_to_nodes() {
   });
 }
 
-// An interface particle's slip grows by the slip rate of the closed contact nodes around it
-// (eq. 38-39, as tangential slip): their weighted mean, weights N_I times the other body's share
-// of the node's mass. A particle with little weight on such nodes (less than min_slip_weight)
-// takes a proportionally smaller rate, so one barely touching the other body gathers nothing.
-// Its cohesion and friction follow their curves. Nothing degrades while settling.
+// An interface particle's slip grows by the slip rate of the contact nodes around it that
+// measure one (eq. 38-39: held nodes give the tangential relative velocity, a bond opened past
+// its tensile capacity the whole relative velocity; apply_contact): their weighted mean, weights
+// N_I times 4 s (1 - s), s the interface partner's share of the two bodies' mass. A particle with
+// little weight on such nodes (less than min_slip_weight) takes a proportionally smaller rate, so
+// one barely touching the other body gathers nothing. Its cohesion and friction follow their
+// curves. Nothing degrades while settling.
 template <int D>
 void Simulation<D>::gather_slip(std::size_t p, const BodyField<D>& N, const ShapeWeights<D>& sw,
                                 double dt) {
@@ -668,6 +694,12 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         }
       }
       if (node.n >= 2) {
+        // Normals from mass gradients smoothed over the neighbouring nodes: a lattice-sampled
+        // surface's raw gradient tilts by a degree or more from node to node.
+        if (const int radius = case_data_.contact.normal_smoothing; radius > 0)
+          for (int k = 0; k < node.n; ++k)
+            if (node.surface_normal[k].isZero())
+              node.grad_m[k] = smoothed_gradient<D>(fields_[node.body[k]], g, radius);
         // Each body's friction is that of its pair with the heaviest other body at the node.
         for (int k = 0; k < node.n; ++k) {
           int other = k == 0 ? 1 : 0;

@@ -180,7 +180,7 @@ private:
   // P2G with its options fixed at compile time (see map_particles_to_nodes).
   template <bool with_forces, bool with_contact>
   void scatter_particles();
-  bool reaches_other_body(int body, const ShapeWeights<D>& sw) const;
+  bool reaches_other_body(int body, const ShapeWeights<D>& sw, int margin) const;
   // One body's G2P with the gather's options fixed at compile time (model == nullptr: no stress).
   template <class Model, bool velocity, bool move>
   void map_nodes_to_body(int body, double dt, const Gather& what, const Model* model);

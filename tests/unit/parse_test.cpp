@@ -135,6 +135,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"orphan_fraction_range", "[output]",
                 "[[contact]]\nfriction = 0.2\norphan_fraction = 0.6\n[output]",
                 "inline.toml:40: contact[0].orphan_fraction: must be in [0, 0.5)"},
+        BadCase{"normal_smoothing_range", "[output]",
+                "[[contact]]\nfriction = 0.2\nnormal_smoothing = 4\n[output]",
+                "inline.toml:40: contact[0].normal_smoothing: must be in [0, 3], got 4"},
+        BadCase{"normal_smoothing_not_an_integer", "[output]",
+                "[[contact]]\nfriction = 0.2\nnormal_smoothing = 1.5\n[output]",
+                "inline.toml:40: contact[0].normal_smoothing: expected an integer"},
         BadCase{"orphan_fraction_on_a_pair", "[output]",
                 "[[contact]]\nbodies = [\"block\", \"ball\"]\nfriction = 0.2\n"
                 "orphan_fraction = 0.2\n[output]",

@@ -179,7 +179,7 @@ TEST(CohesiveBlock, PulledOffItsBondBreaksUnlessItHolds) {
     std::printf("pulled off, tensile strength %s Pa: lifted %.5f m in 0.1 s (free flight %.5f), "
                 "interface cohesion %.1f-%.1f Pa, recorded slip %.2e-%.2e m\n",
                 tensile_strength.c_str(), lift, 0.5 * g * 0.01, c_min, c_max, s_min, s_max);
-    return std::array<double, 4>{lift, c_min, c_max, s_min};
+    return std::array<double, 5>{lift, c_min, c_max, s_min, s_max};
   };
   const auto broken = pull("100");
   EXPECT_NEAR(broken[0], 0.5 * g * 0.01, 0.02 * 0.5 * g * 0.01); // free flight
@@ -187,6 +187,7 @@ TEST(CohesiveBlock, PulledOffItsBondBreaksUnlessItHolds) {
   // Each broken bond recorded the 1 cm that took its cohesion and tensile capacity to zero,
   // and nothing after: a bond that is gone is not an interface any more.
   EXPECT_NEAR(broken[3], 0.01, 1e-4);
+  EXPECT_NEAR(broken[4], 0.01, 1e-4);
   const auto held = pull("1e6");
   EXPECT_LT(std::abs(held[0]), 1e-4);
   // Held, it keeps at least 90 % of its cohesion: the base contracts sideways under the pull

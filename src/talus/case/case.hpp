@@ -92,9 +92,14 @@ struct InterfaceSpec {
   double tensile_strength = -1; // Pa, degrades with the cohesion; < 0: equal to the cohesion
 };
 
+constexpr int max_normal_smoothing = 3; // cells
+
 struct ContactSettings {
   double friction = 0.0;   // default Coulomb coefficient
   double gap_cutoff = 0.8; // cells; < 0 switches the gap check off
+  // Contact normals from each body's mass gradient smoothed over the nodes within this many
+  // cells (0: the node's own gradient; 2 rounds small blocks' corners). docs/formulation.md.
+  int normal_smoothing = 1;
   // A deformable body's particle whose own-body neighbours put less than this fraction of a
   // filled cell's mass on its nodes, with another deformable body's mass around it, maps to that
   // body's field (an orphan; 0 switches it off). See docs/formulation.md.

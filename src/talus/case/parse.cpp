@@ -767,6 +767,8 @@ Case parse_case_text(const std::string& text, const std::string& path,
       has_default = true;
       c.contact.friction = mu;
       c.contact.gap_cutoff = r.number("gap_cutoff", 0.8);
+      c.contact.normal_smoothing =
+          r.integer("normal_smoothing", c.contact.normal_smoothing, 0, max_normal_smoothing);
       c.contact.orphan_fraction = r.number("orphan_fraction", c.contact.orphan_fraction);
       require(r, "orphan_fraction",
               c.contact.orphan_fraction >= 0.0 && c.contact.orphan_fraction < 0.5,
