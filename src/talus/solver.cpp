@@ -46,10 +46,21 @@ void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order, std::ve
 }
 
 // Interface slip (docs/formulation.md): a node measures it only where each of the two bodies has
-// at least this share of their mass there; a particle with less weight than min_slip_weight on
+// at least this share of their volume there; a particle with less weight than min_slip_weight on
 // the nodes that measure it takes a proportionally smaller rate.
 constexpr double min_slip_share = 0.05;
 constexpr double min_slip_weight = 0.05;
+
+// Whether body k is the slave of its pair with `other` at a node: the side whose interface
+// particles carry the bond (capacities, friction, degradation) and whose impulses the interface
+// totals count. Against a rigid body, the deformable one (a rigid body's particles are never
+// corrected and record no slip, so a bond carried by a lighter rigid body never degraded and
+// its totals read zero); otherwise the lighter (the lower rank, as for the normal).
+template <int D>
+bool is_slave(const ContactNode<D>& node, int k, int other) {
+  if (node.rigid[k] != node.rigid[other]) return !node.rigid[k];
+  return node.rank[k] < node.rank[other];
+}
 
 // A body's mass gradient at node g smoothed over the nodes within `radius` cells of it, with
 // weights prod_d (radius + 1 - |o_d|) (contact.normal_smoothing, docs/formulation.md). The body's
@@ -103,6 +114,7 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     for (std::size_t p = particles_.body_begin[b]; p < particles_.body_begin[b + 1]; ++p)
       body_mass_[b] += particles_.m[p];
   for (const BodySpec& b : c.bodies) {
+    body_density_.push_back(c.materials[b.material].density());
     body_material_.push_back(c.materials[b.material]);
     body_material_.back().prepare();
     body_gimp_.emplace_back(c.grid.cell_size, 0.5 * c.grid.cell_size / b.particles_per_cell);
@@ -707,10 +719,10 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
             if (j != k && node.m[j] > node.m[other]) other = j;
           node.mu[k] = pair_friction_[node.body[k] * B + node.body[other]];
           // An interface pair: the slave body's interface particles give the capacities and the
-          // friction at this node (the slave: the lower rank, as for the normal).
+          // friction at this node.
           node.cohesion[k] = node.tension[k] = 0.0;
           if (pair_interface_[node.body[k] * B + node.body[other]] >= 0) {
-            const int s = node.rank[k] < node.rank[other] ? k : other;
+            const int s = is_slave(node, k, other) ? k : other;
             const BodyField<D>& S = fields_[node.body[s]];
             const std::int64_t i = local[s];
             if (S.area[i] > 0.0) {
@@ -746,7 +758,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
                    Vec<D>(node.m[k] * (node.v[k] - before[k]) / dt), node.normal[k],
                    node.friction_impulse[k] / dt, node.cohesion_impulse[k] / dt});
             const int f = pair_interface_[node.body[k] * B + node.body[other]];
-            if (f >= 0 && node.rank[k] < node.rank[other]) { // the slave side, counted once
+            if (f >= 0 && is_slave(node, k, other)) { // the slave side, counted once
               InterfaceForce& row = interface_rows_[r * interface_force_.size() + f];
               row.cohesive += node.cohesion_impulse[k] / dt;
               row.frictional += node.friction_impulse[k] / dt;
@@ -760,8 +772,10 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         // bond as sliding does, and a bond that opened does not heal when it closes again).
         // Only against the body's interface partner (the heaviest other body at the node, whose
         // friction and bond the node used); a third body sliding past is not the interface.
-        // Weighted by how evenly the two bodies share the node, 4 s (1 - s), and not measured
-        // where either has less than min_slip_share of the two's mass: at a node one body barely
+        // Weighted by how evenly the two bodies share the node's volume (mass over material
+        // density), 4 s (1 - s), and not measured where either has less than min_slip_share of
+        // it: by mass, a body 19 times denser than its partner would leave the lighter one under
+        // the cut at every node, and its bond would never record slip. At a node one body barely
         // reaches (a GIMP fringe) its velocity is a force over a round-off mass (1,640 m/s in the
         // two-block column at 3 ms, and 392 m/s times a weight of 1e-4 still added 0.6 m/s to
         // a lifted particle's slip rate there).
@@ -775,7 +789,9 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
             if (pair_interface_[node.body[k] * B + node.body[other]] < 0) continue; // no bond
             const Vec<D> rel = node.v[k] - node.v[other];
             const Vec<D>& nrm = node.normal[k];
-            const double s = node.m[other] / (node.m[k] + node.m[other]);
+            const double v_k = node.m[k] / body_density_[node.body[k]];
+            const double v_other = node.m[other] / body_density_[node.body[other]];
+            const double s = v_other / (v_k + v_other);
             if (std::min(s, 1.0 - s) < min_slip_share) continue; // a fringe: no velocity to trust
             const double share = 4.0 * s * (1.0 - s);
             const double rate = node.opened[k] ? rel.norm() : (rel - rel.dot(nrm) * nrm).norm();

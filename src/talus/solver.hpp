@@ -206,6 +206,7 @@ private:
   std::vector<Vec<D>> rigid_velocity_;  // per body (used if rigid)
   std::vector<double> pair_friction_;   // B x B
   std::vector<double> body_mass_;       // total mass per body: the master of a contact pair
+  std::vector<double> body_density_;    // material density per body: nodal volume shares
   // Per body with geometric_normal: its surface normal at every grid node, filled as contact
   // first meets the node (NaN: not yet); unused for rigid bodies that move.
   std::vector<std::vector<Vec<D>>> normal_cache_;
