@@ -24,13 +24,16 @@ struct BodyField {
   std::vector<Vec<D>> v_remap; // MUSL: velocity re-mapped from the updated particles
   // Interface particles' contributions (paper eq. 37): sum N c^p A^p, sum N t^p A^p (tensile),
   // sum N mu^p A^p and sum N A^p; and the slip rate contact measured against the interface
-  // partner, with its weight 4 s (1 - s) (s: the partner's share of the two bodies' mass; only
-  // where the body is held or its bond has opened), gathered back as slip.
+  // partner, with its weight 4 s (1 - s) (s: the partner's share of the two bodies' volume; only
+  // where the body is held or its bond has opened), gathered back as slip. One slot per
+  // interface of the body, at [node * slots + slot]: a node near two of a body's interfaces
+  // (a thin body, a junction) keeps each interface's bond and slip apart.
   std::vector<double> cohesion, tension, friction_area, area, slip_rate, slip_weight;
+  int slots = 0; // the body's interfaces
 
   // Which of the optional arrays the run uses: contact (grad_m, mx: two or more bodies),
-  // interfaces (the five interface arrays) and MUSL's re-map (v_remap). Arrays a run does not
-  // use stay empty: no memory, no clearing, no scatter.
+  // interfaces (the six interface arrays: a body with an interface) and MUSL's re-map (v_remap).
+  // Arrays a run does not use stay empty: no memory, no clearing, no scatter.
   struct Needs {
     bool contact = true, interfaces = true, remap = true;
   } needs;
@@ -59,7 +62,7 @@ struct BodyField {
     if (needs.contact) clear(grad_m, Vec<D>::Zero()), clear(mx, Vec<D>::Zero());
     if (needs.interfaces)
       for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate, &slip_weight})
-        clear(*a, 0.0);
+        a->assign(n * static_cast<std::size_t>(slots), 0.0);
   }
 
   // Local index of global node coordinates, or -1 outside the box.

@@ -136,9 +136,14 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   interface_impulse_.assign(c.interfaces.size(), InterfaceForce{});
   for (const ContactPair& pair : c.contact.pairs)
     pair_friction_[pair.a * B + pair.b] = pair_friction_[pair.b * B + pair.a] = pair.friction;
+  const int F = static_cast<int>(c.interfaces.size());
+  interface_slot_.assign(B * F, -1);
+  for (int f = 0; f < F; ++f)
+    for (const int b : {c.interfaces[f].a, c.interfaces[f].b})
+      interface_slot_[b * F + f] = fields_[b].slots++;
   for (BodyField<D>& N : fields_) {
     N.needs.contact = B > 1;
-    N.needs.interfaces = !c.interfaces.empty();
+    N.needs.interfaces = N.slots > 0;
     N.needs.remap = c.simulation.scheme == Scheme::musl;
   }
   normal_cache_.resize(B);
@@ -496,11 +501,15 @@ void Simulation<D>::scatter_particles() {
       const double A = P.iface_area[p];
       const double cA = P.cohesion[p] * A, tA = tensile_strength(spec, P.cohesion[p]) * A;
       const double muA = P.friction[p] * A;
+      const int S = N.slots;
+      const int slot =
+          interface_slot_[b * static_cast<int>(case_data_.interfaces.size()) + P.iface[p]];
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
-        N.cohesion[I] += N_I * cA;
-        N.tension[I] += N_I * tA;
-        N.friction_area[I] += N_I * muA;
-        N.area[I] += N_I * A;
+        const std::int64_t j = I * S + slot;
+        N.cohesion[j] += N_I * cA;
+        N.tension[j] += N_I * tA;
+        N.friction_area[j] += N_I * muA;
+        N.area[j] += N_I * A;
       });
     }
   });
@@ -534,9 +543,12 @@ void Simulation<D>::gather_slip(std::size_t p, const BodyField<D>& N, const Shap
   auto& P = particles_;
   if (P.iface[p] < 0 || settling_) return;
   double rate = 0.0, weight = 0.0;
+  const int S = N.slots;
+  const int slot =
+      interface_slot_[P.body_of(p) * static_cast<int>(case_data_.interfaces.size()) + P.iface[p]];
   for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
-    rate += N_I * N.slip_rate[I];
-    weight += N_I * N.slip_weight[I];
+    rate += N_I * N.slip_rate[I * S + slot];
+    weight += N_I * N.slip_weight[I * S + slot];
   });
   const InterfaceSpec& spec = case_data_.interfaces[P.iface[p]];
   P.slip[p] += rate / std::max(weight, min_slip_weight) * dt;
@@ -636,6 +648,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
                                   bool record) {
   const int B = num_bodies();
   if (B < 2) return;
+  const int num_if = static_cast<int>(case_data_.interfaces.size());
   // The nodes where at least two boxes overlap.
   Index<D> lo, hi;
   bool any = false;
@@ -721,10 +734,10 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
           // An interface pair: the slave body's interface particles give the capacities and the
           // friction at this node.
           node.cohesion[k] = node.tension[k] = 0.0;
-          if (pair_interface_[node.body[k] * B + node.body[other]] >= 0) {
+          if (const int f = pair_interface_[node.body[k] * B + node.body[other]]; f >= 0) {
             const int s = is_slave(node, k, other) ? k : other;
             const BodyField<D>& S = fields_[node.body[s]];
-            const std::int64_t i = local[s];
+            const std::int64_t i = local[s] * S.slots + interface_slot_[node.body[s] * num_if + f];
             if (S.area[i] > 0.0) {
               node.mu[k] = S.friction_area[i] / S.area[i];
               node.cohesion[k] = S.cohesion[i];
@@ -786,7 +799,8 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
             int other = k == 0 ? 1 : 0;
             for (int j = 0; j < node.n; ++j)
               if (j != k && node.m[j] > node.m[other]) other = j;
-            if (pair_interface_[node.body[k] * B + node.body[other]] < 0) continue; // no bond
+            const int f = pair_interface_[node.body[k] * B + node.body[other]];
+            if (f < 0) continue; // no bond
             const Vec<D> rel = node.v[k] - node.v[other];
             const Vec<D>& nrm = node.normal[k];
             const double v_k = node.m[k] / body_density_[node.body[k]];
@@ -795,8 +809,9 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
             if (std::min(s, 1.0 - s) < min_slip_share) continue; // a fringe: no velocity to trust
             const double share = 4.0 * s * (1.0 - s);
             const double rate = node.opened[k] ? rel.norm() : (rel - rel.dot(nrm) * nrm).norm();
-            K.slip_rate[local[k]] = share * rate;
-            K.slip_weight[local[k]] = share;
+            const std::int64_t j = local[k] * K.slots + interface_slot_[node.body[k] * num_if + f];
+            K.slip_rate[j] = share * rate;
+            K.slip_weight[j] = share;
           }
       }
       int d = D - 1;

@@ -229,6 +229,7 @@ private:
   std::vector<InterfaceForce> interface_impulse_;
   double impulse_time_ = 0.0;
   std::vector<int> pair_interface_;             // B x B: interface index or -1
+  std::vector<int> interface_slot_;             // B x F: the interface's slot in the body's field
   std::vector<InterfaceForce> interface_force_; // per interface, last step
   std::vector<InterfaceForce> interface_rows_;  // per grid row x interface
   std::vector<Vec<D>> contact_rows_;            // per grid row x B x B, summed in row order

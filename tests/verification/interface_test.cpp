@@ -275,5 +275,88 @@ TEST(DegradationBlock, FollowsThePiecewiseClosedForm) {
   }
 }
 
+// Two interfaces of one body a node apart: a plate one cell thick, bonded to a rigid floor
+// (1 MPa of cohesion, interface 0), under a rider that slides over it frictionless at 1 m/s
+// (interface 1). The plate's base and top rows are the two interfaces' particles and share the
+// node row between them. Each interface keeps its own nodal capacities and slip: the rider
+// slides its 0.2 m in 0.2 s and the floor bond records no slip. Before session 11 a body had one
+// set of interface arrays: the floor bond's cohesion, read at the row the rider touches, glued
+// the rider (0.1 mm in 0.2 s), and the rider's slip leaked into the floor bond (0.35 mm; its
+// cohesion fell to 0.965 MPa).
+TEST(Interfaces, AThinBodysTwoBondsStayApart) {
+  const std::string text = R"(
+title = "Thin bonded plate under a sliding rider"
+[simulation]
+dimension = 2
+end_time = 0.2
+cfl = 0.4
+gravity = [0.0, -9.81]
+[grid]
+origin = [-0.5, -0.5]
+extent = [4.0, 1.5]
+cell_size = 0.1
+shape_function = "gimp"
+[[material]]
+name = "rock"
+density = 2000.0
+youngs_modulus = 100.0e6
+poisson_ratio = 0.3
+[[body]]
+name = "plate"
+material = "rock"
+box = { min = [0.0, 0.0], max = [3.0, 0.1] }
+particles_per_cell = 2
+[[body]]
+name = "rider"
+material = "rock"
+box = { min = [0.2, 0.1], max = [1.2, 0.4] }
+particles_per_cell = 2
+velocity = [1.0, 0.0]
+[[body]]
+name = "floor"
+material = "rock"
+rigid = true
+box = { min = [-0.4, -0.3], max = [3.4, 0.0] }
+particles_per_cell = 2
+[[interface]]
+bodies = ["plate", "floor"]
+friction = { initial = 0.5, residual = 0.0, slip = 0.01 }
+cohesion = { initial = 1.0e6, residual = 0.0, slip = 0.01 }
+[[interface]]
+bodies = ["plate", "rider"]
+friction = { initial = 0.0, residual = 0.0, slip = 1.0 }
+cohesion = { initial = 0.0, residual = 0.0, slip = 1.0 }
+)";
+  const Case c = parse_case_text(text, "junction.toml");
+  Simulation<2> sim(c);
+  while (sim.time() < 0.2 - 1e-12)
+    sim.step(0.2 - sim.time());
+  const auto& P = sim.particles();
+  double rider = 0, mass = 0;
+  for (std::size_t p = P.body_begin[1]; p < P.body_begin[2]; ++p)
+    rider += P.m[p] * (P.x[p] - P.x0[p])[0], mass += P.m[p];
+  rider /= mass;
+  double floor_slip = 0, floor_cohesion = 1e300, top_slip = 0;
+  int floor_bond = 0, top_bond = 0;
+  for (std::size_t p = P.body_begin[0]; p < P.body_begin[1]; ++p) {
+    if (P.iface[p] == 0) {
+      ++floor_bond;
+      floor_slip = std::max(floor_slip, P.slip[p]);
+      floor_cohesion = std::min(floor_cohesion, P.cohesion[p]);
+    } else if (P.iface[p] == 1) {
+      ++top_bond, top_slip = std::max(top_slip, P.slip[p]);
+    }
+  }
+  std::printf("rider slid %.5f m; floor bond (%d particles): slip %.2e m, cohesion %.4g Pa; top "
+              "(%d particles): slip up to %.4f m\n",
+              rider, floor_bond, floor_slip, floor_cohesion, top_bond, top_slip);
+  ASSERT_GT(floor_bond, 0);
+  ASSERT_GT(top_bond, 0);
+  EXPECT_NEAR(rider, 0.2, 0.002);
+  EXPECT_LT(floor_slip, 1e-6);
+  EXPECT_EQ(floor_cohesion, 1e6);
+  EXPECT_NEAR(top_slip, 0.2, 0.002); // the top row under the rider all the way
+}
+
 } // namespace
 } // namespace talus
