@@ -533,10 +533,11 @@ void Simulation<D>::map_forces_to_nodes() {
 // An interface particle's slip grows by the slip rate of the contact nodes around it that
 // measure one (eq. 38-39: held nodes give the tangential relative velocity, a bond opened past
 // its tensile capacity the whole relative velocity; apply_contact): their weighted mean, weights
-// N_I times 4 s (1 - s), s the interface partner's share of the two bodies' mass. A particle with
-// little weight on such nodes (less than min_slip_weight) takes a proportionally smaller rate, so
-// one barely touching the other body gathers nothing. Its cohesion and friction follow their
-// curves. Nothing degrades while settling.
+// N_I times 4 s (1 - s), s the interface partner's share of the two bodies' volume, read from
+// the nodes' slot of the particle's own interface. A particle with little weight on such nodes
+// (less than min_slip_weight) takes a proportionally smaller rate, so one barely touching the
+// other body gathers nothing. Its cohesion and friction follow their curves. Nothing degrades
+// while settling.
 template <int D>
 void Simulation<D>::gather_slip(std::size_t p, const BodyField<D>& N, const ShapeWeights<D>& sw,
                                 double dt) {
