@@ -501,9 +501,7 @@ void Simulation<D>::scatter_particles() {
       const double A = P.iface_area[p];
       const double cA = P.cohesion[p] * A, tA = tensile_strength(spec, P.cohesion[p]) * A;
       const double muA = P.friction[p] * A;
-      const int S = N.slots;
-      const int slot =
-          interface_slot_[b * static_cast<int>(case_data_.interfaces.size()) + P.iface[p]];
+      const int S = N.slots, slot = interface_slot(b, P.iface[p]);
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
         const std::int64_t j = I * S + slot;
         N.cohesion[j] += N_I * cA;
@@ -544,9 +542,7 @@ void Simulation<D>::gather_slip(std::size_t p, const BodyField<D>& N, const Shap
   auto& P = particles_;
   if (P.iface[p] < 0 || settling_) return;
   double rate = 0.0, weight = 0.0;
-  const int S = N.slots;
-  const int slot =
-      interface_slot_[P.body_of(p) * static_cast<int>(case_data_.interfaces.size()) + P.iface[p]];
+  const int S = N.slots, slot = interface_slot(P.body_of(p), P.iface[p]);
   for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
     rate += N_I * N.slip_rate[I * S + slot];
     weight += N_I * N.slip_weight[I * S + slot];
@@ -649,7 +645,6 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
                                   bool record) {
   const int B = num_bodies();
   if (B < 2) return;
-  const int num_if = static_cast<int>(case_data_.interfaces.size());
   // The nodes where at least two boxes overlap.
   Index<D> lo, hi;
   bool any = false;
@@ -738,7 +733,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
           if (const int f = pair_interface_[node.body[k] * B + node.body[other]]; f >= 0) {
             const int s = is_slave(node, k, other) ? k : other;
             const BodyField<D>& S = fields_[node.body[s]];
-            const std::int64_t i = local[s] * S.slots + interface_slot_[node.body[s] * num_if + f];
+            const std::int64_t i = local[s] * S.slots + interface_slot(node.body[s], f);
             if (S.area[i] > 0.0) {
               node.mu[k] = S.friction_area[i] / S.area[i];
               node.cohesion[k] = S.cohesion[i];
@@ -788,11 +783,11 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         // friction and bond the node used); a third body sliding past is not the interface.
         // Weighted by how evenly the two bodies share the node's volume (mass over material
         // density), 4 s (1 - s), and not measured where either has less than min_slip_share of
-        // it: by mass, a body 19 times denser than its partner would leave the lighter one under
-        // the cut at every node, and its bond would never record slip. At a node one body barely
-        // reaches (a GIMP fringe) its velocity is a force over a round-off mass (1,640 m/s in the
-        // two-block column at 3 ms, and 392 m/s times a weight of 1e-4 still added 0.6 m/s to
-        // a lifted particle's slip rate there).
+        // it (by mass, a rigid plane's density changed the slip a block recorded on it: a plane
+        // 25 times denser put the block under the cut at nodes it half fills). At a node one body
+        // barely reaches (a GIMP fringe) its velocity is a force over a round-off mass (1,640 m/s
+        // in the two-block column at 3 ms, and 392 m/s times a weight of 1e-4 still added 0.6 m/s
+        // to a lifted particle's slip rate there).
         if (record)
           for (int k = 0; k < node.n; ++k) {
             BodyField<D>& K = fields_[node.body[k]];
@@ -810,7 +805,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
             if (std::min(s, 1.0 - s) < min_slip_share) continue; // a fringe: no velocity to trust
             const double share = 4.0 * s * (1.0 - s);
             const double rate = node.opened[k] ? rel.norm() : (rel - rel.dot(nrm) * nrm).norm();
-            const std::int64_t j = local[k] * K.slots + interface_slot_[node.body[k] * num_if + f];
+            const std::int64_t j = local[k] * K.slots + interface_slot(node.body[k], f);
             K.slip_rate[j] = share * rate;
             K.slip_weight[j] = share;
           }

@@ -224,6 +224,11 @@ private:
   std::vector<double> box_bounds_;           // fit_body_fields' per-body particle bounds
   static constexpr int orphan_interval = 10; // steps between update_orphans()
 
+  // Body `body`'s slot for interface f in its field's interface arrays.
+  int interface_slot(int body, int f) const {
+    return interface_slot_[body * static_cast<int>(case_data_.interfaces.size()) + f];
+  }
+
   std::vector<Vec<D>> contact_force_;   // B x B, last step
   std::vector<Vec<D>> contact_impulse_; // B x B, since reset_force_means()
   std::vector<InterfaceForce> interface_impulse_;
