@@ -123,6 +123,7 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
       v[d] = b.velocity[d];
     rigid_velocity_.push_back(v);
   }
+  fixed_field_ready_.assign(B, 0);
   pair_friction_.assign(B * B, c.contact.friction);
   pair_interface_.assign(B * B, -1);
   // An interface pair slides with its interface's friction where no interface particle is
@@ -281,8 +282,13 @@ void Simulation<D>::bin_particles_by_slab() {
   bin_index_.resize(n);
   std::fill(bin_offset_.begin(), bin_offset_.end(), 0);
   const double inv_h = 1.0 / grid_.h;
+  constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
   for (int b = 0; b < B; ++b) {
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+    if (fixed_field_ready_[b]) { // its field stands: no scatter visits its particles
+      std::fill(particle_bin_.begin() + begin, particle_bin_.begin() + end, none);
+      continue;
+    }
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
       const double xi = (P.x[p][0] - grid_.origin[0]) * inv_h;
@@ -292,11 +298,12 @@ void Simulation<D>::bin_particles_by_slab() {
     }
   }
   for (std::size_t p = 0; p < n; ++p)
-    ++bin_offset_[particle_bin_[p] + 1];
+    if (particle_bin_[p] != none) ++bin_offset_[particle_bin_[p] + 1];
   std::partial_sum(bin_offset_.begin(), bin_offset_.end(), bin_offset_.begin());
   std::vector<std::size_t> fill(bin_offset_.begin(), bin_offset_.end() - 1);
   for (std::size_t p = 0; p < n; ++p)
-    bin_index_[fill[particle_bin_[p]]++] = static_cast<std::uint32_t>(p);
+    if (particle_bin_[p] != none)
+      bin_index_[fill[particle_bin_[p]]++] = static_cast<std::uint32_t>(p);
 }
 
 template <int D>
@@ -323,6 +330,7 @@ void Simulation<D>::fit_body_fields() {
   double* lo_ = bounds.data();
   double* hi_ = bounds.data() + B * D;
   for (int b = 0; b < B; ++b) {
+    if (fixed_field_ready_[b]) continue;
     double l[D], h[D];
     std::fill_n(l, D, inf), std::fill_n(h, D, -inf);
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
@@ -344,6 +352,7 @@ void Simulation<D>::fit_body_fields() {
         }
   }
   for (int b = 0; b < B; ++b) {
+    if (fixed_field_ready_[b]) continue; // its box and sums stand
     const Vec<D> lo = Eigen::Map<const Vec<D>>(lo_ + b * D),
                  hi = Eigen::Map<const Vec<D>>(hi_ + b * D);
     Index<D> first = grid_.cell_of(lo), last = grid_.cell_of(hi);
@@ -491,7 +500,9 @@ void Simulation<D>::scatter_particles() {
     // inside that body's box, and the gradient also within normal_smoothing cells of them: a
     // particle whose nodes miss every other box so widened (most of the Vaiont bedrock) skips
     // them. The sums at every node contact reads are unchanged.
-    if (with_contact && reaches_other_body(f, sw, case_data_.contact.normal_smoothing))
+    // A fixed body's field is scattered once for every step to come: all of it.
+    if (with_contact &&
+        (fixed(b) || reaches_other_body(f, sw, case_data_.contact.normal_smoothing)))
       map.template operator()<true>();
     else
       map.template operator()<false>();
@@ -872,6 +883,7 @@ void Simulation<D>::map_nodes_to_body(int b, double dt, const Gather& what, cons
   auto& P = particles_;
   const double flip = case_data_.simulation.flip;
   const bool rigid = case_data_.bodies[b].rigid;
+  if (fixed_field_ready_[b]) return; // a fixed body: nothing moves, no stress
   assert_shape_current();
   const double max_J = body_material_[b].max_volume_ratio;
   const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
@@ -1016,6 +1028,8 @@ void Simulation<D>::step(double dt_limit) {
   impulse_time_ += dt_;
   time_ += dt_;
   ++steps_;
+  for (int b = 0; b < num_bodies(); ++b)
+    fixed_field_ready_[b] = fixed(b);
   // Before anything reads the new state (output, checkpoint, the next step).
   if (bad_particle_ != no_particle) report_bad_particle(bad_particle_);
 }

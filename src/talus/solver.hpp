@@ -131,14 +131,19 @@ public:
     ar.io(index_of_id_), ar.io(contact_force_), ar.io(interface_force_);
     ar.io(contact_impulse_), ar.io(interface_impulse_), ar.io(impulse_time_);
     ar.io(contact_work_), ar.io(internal_work_), ar.io(strain_energy0_);
+    std::fill(fixed_field_ready_.begin(), fixed_field_ready_.end(), 0); // rescatter: same sums
   }
 
   // Initial conditions that a case file cannot express (tests set a velocity field here).
   Particles<D>& particles_mut() {
     shape_step_ = -1;           // the caller may move particles
     particles_checked_ = false; // and the next step checks them all
+    std::fill(fixed_field_ready_.begin(), fixed_field_ready_.end(), 0); // and fixed bodies
     return particles_;
   }
+
+  // Whether body b's field is held from an earlier step instead of scattered (a fixed body).
+  bool fixed_field_cached(int b) const { return fixed_field_ready_[b] != 0; }
 
   // The phases of step(), public so the tests can check each transfer on its own.
   void sort_particles_by_cell();
@@ -204,9 +209,14 @@ private:
   std::vector<Material> body_material_; // per body
   std::vector<GimpFactors> body_gimp_;  // GIMP shape factors per body (its half-width lp in them)
   std::vector<Vec<D>> rigid_velocity_;  // per body (used if rigid)
-  std::vector<double> pair_friction_;   // B x B
-  std::vector<double> body_mass_;       // total mass per body: the master of a contact pair
-  std::vector<double> body_density_;    // material density per body: nodal volume shares
+  // A fixed body (rigid, velocity zero) never moves, so its field (mass, mass gradient, position,
+  // bond capacities; momentum zero) is the same every step: it is scattered once, in full, and
+  // then neither refitted, cleared nor scattered again (docs/performance.md). Per body.
+  std::vector<char> fixed_field_ready_;
+  bool fixed(int b) const { return case_data_.bodies[b].rigid && rigid_velocity_[b].isZero(); }
+  std::vector<double> pair_friction_; // B x B
+  std::vector<double> body_mass_;     // total mass per body: the master of a contact pair
+  std::vector<double> body_density_;  // material density per body: nodal volume shares
   // Per body with geometric_normal: its surface normal at every grid node, filled as contact
   // first meets the node (NaN: not yet); unused for rigid bodies that move.
   std::vector<std::vector<Vec<D>>> normal_cache_;
@@ -215,7 +225,7 @@ private:
   Vec<D> gravity_ = Vec<D>::Zero();
 
   // Slab binning for the coloured scatter: particles of slab s and body b are
-  // bin_index_[bin_offset_[s * B + b] .. bin_offset_[s * B + b + 1]).
+  // bin_index_[bin_offset_[s * B + b] .. bin_offset_[s * B + b + 1]) (none for a held fixed body).
   int slab_width_ = 4;
   std::int64_t num_slabs_ = 1;
   std::vector<std::uint32_t> bin_index_;

@@ -1,5 +1,6 @@
 // Multi-body contact benchmarks (paper sections 3.1-3.2) against their closed forms, and the
 // conservation checks of a head-on collision.
+#include "talus/output/checkpoint.hpp"
 #include "talus/solver.hpp"
 #include "test_support.hpp"
 
@@ -173,6 +174,52 @@ TEST(SlidingBlock, ContactNodeForcesAddUpToThePairTotal) {
   EXPECT_NEAR(total[1], sim.contact_force(0, 1)[1], 1e-9 * normal);
   EXPECT_NEAR(normal_impulse / duration, m * g * std::cos(theta), 0.01 * m * g);
   EXPECT_NEAR(frictional, mu * normal, 1e-6 * normal);
+}
+
+// A fixed rigid body (velocity zero) is scattered once and its field held after that. The held
+// field must give bitwise the run that scatters it every step (particles_mut() drops the held
+// field, so `every` rescatters before each step), across a checkpoint too; a body that moves is
+// never held.
+TEST(FixedBodies, HeldFieldIsBitwiseTheFieldScatteredEveryStep) {
+  const std::string file = std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/sliding_block.toml";
+  const Case c = parse_case_file(file, {"contact.0.friction=0.174"});
+  Simulation<2> held(c), every(c);
+  std::string saved;
+  // 0.6 s: the block slides 0.6 m, six cells past the nodes the plane's field had near it at
+  // the start (where the field of a body scattered only near the others would be empty).
+  while (held.time() < 0.6) {
+    held.step(1.0);
+    every.particles_mut();
+    every.step(1.0);
+    if (saved.empty() && held.time() >= 0.3) {
+      SaveArchive ar;
+      held.serialize(ar, "memory");
+      saved = ar.bytes();
+    }
+  }
+  EXPECT_FALSE(held.fixed_field_cached(0)); // the block
+  EXPECT_TRUE(held.fixed_field_cached(1));  // the plane
+  Simulation<2> restored(c);
+  LoadArchive in(saved, "memory");
+  restored.serialize(in, "memory");
+  while (restored.steps() < held.steps())
+    restored.step(1.0);
+  const auto &A = held.particles(), &B = every.particles(), &R = restored.particles();
+  ASSERT_EQ(A.size(), B.size());
+  std::size_t differ = 0, differ_restored = 0;
+  for (std::size_t p = 0; p < A.size(); ++p) {
+    differ += A.x[p] != B.x[p] || A.v[p] != B.v[p] || A.stress[p] != B.stress[p];
+    differ_restored += A.x[p] != R.x[p] || A.v[p] != R.v[p] || A.stress[p] != R.stress[p];
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(differ_restored, 0u);
+  EXPECT_GT((A.x[0] - A.x0[0]).norm(), 0.5); // the block did slide
+  // A rigid plane moving (however slowly) is scattered every step.
+  Case moving = c;
+  moving.bodies[1].velocity[1] = 1e-6;
+  Simulation<2> m(moving);
+  m.step(1.0), m.step(1.0);
+  EXPECT_FALSE(m.fixed_field_cached(1));
 }
 
 // A cylinder rolls without slipping (x = g t^2 sin(theta) / 3) when tan(theta) <= 3 mu, and
