@@ -1,0 +1,214 @@
+// Golden hashes: about 200 steps of small cases, every particle array and the contact, interface
+// and energy totals hashed (FNV-1a 64 over their bytes), on 1 and 2 threads and across an
+// in-memory restart. A refactor of the solver must keep every hash: the results are bitwise the
+// same or the refactor changed the physics. The hashes hold for the release preset's compiler
+// and flags (g++ 12, -O3 -march=x86-64-v2, Debian 12); other builds compute other round-off, so
+// this file is in the verification label, which only the release preset runs.
+//
+// To print the current hashes (after a change that is meant to alter results, with the reason
+// in the commit): TALUS_GOLDEN_PRINT=1 build/release/tests/talus_verification_tests
+// --gtest_filter='Golden*'.
+#include "talus/case/parse.hpp"
+#include "talus/output/checkpoint.hpp"
+#include "talus/solver.hpp"
+
+#include <cstdint>
+#include <cstdlib>
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <omp.h>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace talus {
+namespace {
+
+// FNV-1a 64 over a sequence of byte ranges.
+struct Hash {
+  std::uint64_t h = 14695981039346656037ull;
+  void bytes(const void* data, std::size_t n) {
+    const auto* c = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i)
+      h = (h ^ c[i]) * 1099511628211ull;
+  }
+  template <class T>
+  void add(const std::vector<T>& v) {
+    const std::uint64_t n = v.size();
+    bytes(&n, sizeof n);
+    bytes(v.data(), v.size() * sizeof(T));
+  }
+  void add(double x) { bytes(&x, sizeof x); }
+};
+
+// The state's hash: every particle array, the clocks, and the totals the run folder records.
+template <int D>
+std::uint64_t state_hash(const Simulation<D>& sim) {
+  Hash H;
+  auto P = sim.particles(); // for_each_array is non-const
+  P.for_each_array([&](const auto& a) { H.add(a); });
+  H.add(sim.time()), H.add(sim.last_dt()), H.add(static_cast<double>(sim.steps()));
+  const int B = sim.num_bodies();
+  for (int a = 0; a < B; ++a)
+    for (int b = 0; b < B; ++b)
+      for (int d = 0; d < D; ++d)
+        H.add(sim.contact_force(a, b)[d]), H.add(sim.mean_contact_force(a, b)[d]);
+  for (std::size_t f = 0; f < sim.interface_forces().size(); ++f) {
+    const InterfaceForce I = sim.interface_forces()[f], M = sim.mean_interface_force(f);
+    H.add(I.cohesive), H.add(I.frictional), H.add(I.normal);
+    H.add(M.cohesive), H.add(M.frictional), H.add(M.normal);
+  }
+  for (int b = 0; b < B; ++b) {
+    H.add(sim.gravity_work(b)), H.add(sim.contact_work(b)), H.add(sim.internal_work(b));
+    H.add(sim.strain_energy(b)), H.add(sim.strain_energy_at_release(b));
+  }
+  for (const ContactNodeForce<D>& n : sim.contact_nodes()) {
+    for (int d = 0; d < D; ++d)
+      H.add(n.position[d]), H.add(n.force[d]), H.add(n.normal[d]);
+    H.add(n.frictional), H.add(n.cohesive), H.add(static_cast<double>(n.body * 64 + n.other));
+  }
+  H.add(static_cast<double>(sim.orphans()));
+  return H.h;
+}
+
+struct GoldenCase {
+  const char* name;
+  const char* file;
+  std::vector<std::string> overrides;
+  int settle_steps; // damped settling steps before release() (0: none)
+  int steps;        // steps after release
+  std::uint64_t hash;
+};
+
+// Runs the case and returns its hash; `restart_at` > 0 saves the state after that many steps
+// into memory, restores it into a new simulation and finishes the run from there.
+template <int D>
+std::uint64_t run_case(const Case& c, const GoldenCase& g, int restart_at) {
+  auto sim = std::make_unique<Simulation<D>>(c);
+  const int total = g.settle_steps + g.steps;
+  if (g.settle_steps > 0) sim->set_settling(true);
+  for (int s = 0; s < total; ++s) {
+    if (s == restart_at) {
+      SaveArchive out;
+      sim->serialize(out, "memory");
+      sim = std::make_unique<Simulation<D>>(c);
+      LoadArchive in(out.bytes(), "memory");
+      sim->serialize(in, "memory");
+    }
+    if (s == g.settle_steps && g.settle_steps > 0) sim->release();
+    sim->step(1.0);
+  }
+  if (std::getenv("TALUS_GOLDEN_PRINT"))
+    fmt::print("golden {}: {} particles, {} orphans at the end\n", g.name, sim->particles().size(),
+               sim->orphans());
+  return state_hash(*sim);
+}
+
+std::uint64_t run_golden(const GoldenCase& g, int restart_at) {
+  const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/" + g.file, g.overrides);
+  return c.simulation.dimension == 2 ? run_case<2>(c, g, restart_at)
+                                     : run_case<3>(c, g, restart_at);
+}
+
+const std::vector<GoldenCase>& golden_cases() {
+  static const std::vector<GoldenCase> cases = {
+      // One deformable body (Drucker-Prager column) under each scheme and shape function.
+      {"column_usf_linear",
+       "cases/benchmarks/column_collapse.toml",
+       {"grid.cell_size=0.01", "simulation.scheme=\"usf\"", "grid.shape_function=\"linear\""},
+       0,
+       200,
+       0x70f178bdf1cd338aull},
+      {"column_usl_linear",
+       "cases/benchmarks/column_collapse.toml",
+       {"grid.cell_size=0.01", "simulation.scheme=\"usl\"", "grid.shape_function=\"linear\""},
+       0,
+       200,
+       0x1adadf54baff9e48ull},
+      {"column_musl_linear",
+       "cases/benchmarks/column_collapse.toml",
+       {"grid.cell_size=0.01", "simulation.scheme=\"musl\"", "grid.shape_function=\"linear\""},
+       0,
+       200,
+       0x1235aa61b7628022ull},
+      {"column_usf_gimp",
+       "cases/benchmarks/column_collapse.toml",
+       {"grid.cell_size=0.01", "simulation.scheme=\"usf\"", "grid.shape_function=\"gimp\""},
+       0,
+       200,
+       0x69a5206776313974ull},
+      {"column_usl_gimp",
+       "cases/benchmarks/column_collapse.toml",
+       {"grid.cell_size=0.01", "simulation.scheme=\"usl\"", "grid.shape_function=\"gimp\""},
+       0,
+       200,
+       0xda957b94edfd05caull},
+      {"column_musl_gimp",
+       "cases/benchmarks/column_collapse.toml",
+       {"grid.cell_size=0.01", "simulation.scheme=\"musl\"", "grid.shape_function=\"gimp\""},
+       0,
+       200,
+       0x7af061efb7659aceull},
+      // A block on a fixed rigid plane (the held field), with contact-node output.
+      {"sliding_block",
+       "cases/benchmarks/sliding_block.toml",
+       {"contact.0.friction=0.174", "output.contact_nodes=true"},
+       0,
+       200,
+       0x55d975a046d3ca88ull},
+      // A cohesive interface that degrades with slip, after damped settling with the bond held.
+      {"cohesive_block",
+       "cases/benchmarks/cohesive_block.toml",
+       {},
+       60,
+       200,
+       0x6b47e318d15ba92dull},
+      // Three deformable bodies with interfaces, orphans and normal smoothing (the defaults),
+      // K0 stresses and settling, under MUSL.
+      {"vaiont_three",
+       "cases/vaiont/three_bodies.toml",
+       {"grid.cell_size=16", "interface.0.friction.slip=0.02", "interface.0.cohesion.slip=0.02",
+        "output.contact_nodes=true"},
+       50,
+       200,
+       0x290b876c09aa9bc1ull},
+      // Five bodies: where orphans appear.
+      {"vaiont_five",
+       "cases/vaiont/five_bodies.toml",
+       {"grid.cell_size=16", "initial_state.settle_time=0"},
+       0,
+       200,
+       0x77fea0291f782ba8ull},
+      // The 3D sphere on a rigid plane.
+      {"sphere_3d", "cases/benchmarks/rolling_sphere.toml", {}, 0, 200, 0xaec4d1c5d4948ec1ull},
+  };
+  return cases;
+}
+
+void PrintTo(const GoldenCase& g, std::ostream* os) {
+  *os << g.name;
+}
+
+class Golden : public ::testing::TestWithParam<GoldenCase> {};
+
+// The hash on 1 and 2 threads and across a restart equals the committed one.
+TEST_P(Golden, HashUnchangedOnOneAndTwoThreadsAndAcrossARestart) {
+  const GoldenCase& g = GetParam();
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const std::uint64_t one = run_golden(g, -1);
+  omp_set_num_threads(2);
+  const std::uint64_t two = run_golden(g, -1);
+  const std::uint64_t restarted = run_golden(g, (g.settle_steps + g.steps) / 2 + 1);
+  omp_set_num_threads(threads);
+  if (std::getenv("TALUS_GOLDEN_PRINT")) fmt::print("golden {} 0x{:016x}ull\n", g.name, one);
+  EXPECT_EQ(one, two) << g.name << ": 1 and 2 threads differ";
+  EXPECT_EQ(one, restarted) << g.name << ": the restarted run differs";
+  EXPECT_EQ(one, g.hash) << g.name << fmt::format(": hash 0x{:016x}ull", one);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, Golden, ::testing::ValuesIn(golden_cases()),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+} // namespace
+} // namespace talus
