@@ -4,6 +4,7 @@
 #include "talus/output/files.hpp"
 #include "talus/run.hpp"
 #include "talus/solver.hpp"
+#include "talus/threads.hpp"
 
 #include <chrono>
 #include <fmt/format.h>
@@ -79,7 +80,7 @@ int run_bench(const BenchOptions& opt) {
       continue;
     const Case c = parse_case_file(opt.source_dir + "/" + pb.file, pb.overrides);
     for (const int threads : opt.threads) {
-      set_threads(threads);
+      set_threads(threads, 0);
       reset_peak_rss();
       const double rss_before = read_rss().now;
       Simulation<2> sim(c);

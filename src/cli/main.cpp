@@ -7,6 +7,7 @@
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/files.hpp"
 #include "talus/run.hpp"
+#include "talus/threads.hpp"
 #include "talus/version.hpp"
 
 #include <CLI/CLI.hpp>
@@ -63,10 +64,7 @@ int check(const talus::Case& c) {
                                               c.grid.cell_size / max_wave);
   const double steps =
       std::ceil(c.simulation.end_time / dt) + std::ceil(c.initial_state.settle_time / settle_dt);
-  // The velocity fields span each body's box: bounded here by the whole grid per body.
-  const double memory =
-      total * talus::bytes_per_particle(dim) +
-      nodes * (talus::bytes_per_grid_node + talus::bytes_per_field_node(dim) * c.bodies.size());
+  const double memory = talus::estimate_memory(c, counts);
   constexpr double assumed_rate = 5e6; // particle-updates/s on 2 threads (docs/performance.md)
   fmt::print("  {} particles, {:.0f} grid nodes ({}D, cell {} m)\n", total, nodes, dim,
              c.grid.cell_size);
@@ -75,7 +73,7 @@ int check(const talus::Case& c) {
              c.initial_state.settle_time > 0.0
                  ? fmt::format(" after {} s of settling", c.initial_state.settle_time)
                  : std::string());
-  fmt::print("  memory at most about {:.1f} MB (this machine: {:.1f} GB); run time about {:.3g} "
+  fmt::print("  memory about {:.1f} MB (this machine: {:.1f} GB); run time about {:.3g} "
              "s at {:.0e} particle-updates/s\n",
              memory / 1e6, talus::machine_memory() / 1e9, total * steps / assumed_rate,
              assumed_rate);
@@ -129,6 +127,7 @@ int run_and_report(F&& go) {
 } // namespace
 
 int main(int argc, char** argv) {
+  talus::share_cores(argv);      // idle OpenMP threads sleep: runs side by side do not collapse
   std::signal(SIGXFSZ, SIG_IGN); // a full file-size limit becomes a write error, not a kill
   CLI::App app{"Talus: multi-body Material Point Method for landslides"};
   app.set_version_flag("--version", std::string("talus ") + talus::version);
@@ -147,8 +146,9 @@ int main(int argc, char** argv) {
   run->add_option("--out,-o", out_dir, "run folder (default: runs/<case name>)");
   run->add_option("--set", overrides, "override a key: --set grid.cell_size=4 (repeatable)")
       ->excludes(restart_opt);
-  run->add_option("--threads,-t", threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
+  run->add_option("--threads,-t", threads,
+                  "OpenMP threads (default: one per 25,000 particles, at most the cores)")
+      ->check(CLI::Range(1, 1024));
   run->add_option("--max-steps", max_steps, "stop after this many steps");
 
   auto* chk = app.add_subcommand("check", "validate a case and estimate its size and run time");

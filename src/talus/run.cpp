@@ -4,6 +4,7 @@
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/run_writer.hpp"
 #include "talus/solver.hpp"
+#include "talus/threads.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -12,21 +13,8 @@
 #include <fmt/format.h>
 #include <optional>
 #include <unistd.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace talus {
-
-int set_threads(int threads) {
-#ifdef _OPENMP
-  if (threads > 0) omp_set_num_threads(threads);
-  return omp_get_max_threads();
-#else
-  (void)threads;
-  return 1;
-#endif
-}
 
 namespace {
 
@@ -211,7 +199,7 @@ public:
 
   RunResult run(LoadArchive* restore, const std::string& restored_from) {
     const auto wall0 = Clock::now();
-    const int threads = set_threads(opt_.threads);
+    const int threads = set_threads(opt_.threads, sim_.particles().size());
     StopSignals signals;
     RunResult r;
     r.particles = sim_.particles().size();

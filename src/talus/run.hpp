@@ -12,7 +12,7 @@ namespace talus {
 
 struct RunOptions {
   std::string out_dir;
-  int threads = 0;                       // 0: OpenMP's default
+  int threads = 0;                       // 0: by the problem's size (set_threads)
   std::optional<std::int64_t> max_steps; // stop early (tests, benchmarks)
   std::ostream* log = nullptr;           // progress and messages; null: silent
   // Fault injection for the restart tests: raise this signal right after this step.
@@ -38,8 +38,5 @@ RunResult run_case(const Case& c, const RunOptions& opt);
 // Continues the run in opt.out_dir from its newest readable checkpoint (older ones if the newest
 // is damaged), into the same folder. Throws CheckpointError if there is none.
 RunResult restart_run(const RunOptions& opt);
-
-// Sets the number of OpenMP threads (0 leaves the default) and returns the number in use.
-int set_threads(int threads);
 
 } // namespace talus

@@ -1,14 +1,17 @@
-// Simulation<D>: the state of a run and its explicit time step (ARCHITECTURE.md, "One time step").
-// Each body has its own velocity field (multi-velocity-field contact, paper section 2.3).
+// Simulation<D>: the state of a run and its explicit time step (docs/architecture.md).
+// Each body has its own velocity field (multi-velocity-field contact, paper section 2.3). What
+// is fixed for the run is in setup_ (setup.hpp); the phases of step() live in the files named
+// after them (transfer, grid_update, contact_pass, interface_history, orphans, time_step,
+// particle_check).
 #pragma once
 
-#include "talus/boundary.hpp"
 #include "talus/case/case.hpp"
-#include "talus/contact.hpp"
+#include "talus/contact_record.hpp"
 #include "talus/grid.hpp"
 #include "talus/nodes.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/particles.hpp"
+#include "talus/setup.hpp"
 #include "talus/shape.hpp"
 
 #include <cstdint>
@@ -23,22 +26,6 @@ namespace talus {
 class SimulationError : public std::runtime_error {
 public:
   using std::runtime_error::runtime_error;
-};
-
-// Total forces of an interface pair in one step (N, per unit thickness in 2D): the cohesive and
-// frictional parts of the tangential resistance and the normal force (paper Figure 5a).
-struct InterfaceForce {
-  double cohesive = 0, frictional = 0, normal = 0;
-};
-
-// The contact force on one body at one node in the last step (output.contact_nodes).
-template <int D>
-struct ContactNodeForce {
-  Vec<D> position = Vec<D>::Zero();    // the node
-  int body = 0, other = 0;             // the corrected body, and the heaviest other body there
-  Vec<D> force = Vec<D>::Zero();       // m (v_after - v_before) / dt on `body`
-  Vec<D> normal = Vec<D>::Zero();      // outward from `body`
-  double frictional = 0, cohesive = 0; // tangential resistance used (N)
 };
 
 // Wall time spent in each phase of the step, for the benchmark.
@@ -59,32 +46,25 @@ public:
   double time() const { return time_; }
   std::int64_t steps() const { return steps_; }
   double last_dt() const { return dt_; }
+  // The case as given: for the output writers (names, probes, output options), not the phases.
   const Case& case_() const { return case_data_; }
+  const Setup<D>& setup() const { return setup_; }
   const Grid<D>& grid() const { return grid_; }
   const Particles<D>& particles() const { return particles_; }
   const std::vector<BodyField<D>>& fields() const { return fields_; }
-  const std::vector<Material>& body_materials() const { return body_material_; }
   const PhaseTimes& phase_times() const { return phase_times_; }
-  // Contact force on body a from body b in the last step: contact_force(a, b).
-  const Vec<D>& contact_force(int a, int b) const { return contact_force_[a * num_bodies() + b]; }
   int num_bodies() const { return particles_.num_bodies(); }
-  const std::vector<InterfaceForce>& interface_forces() const { return interface_force_; }
-  // Time means of the contact and interface forces since the last reset_force_means() (the last
-  // step's forces if no time has passed): what the run folder's CSVs record per row.
-  Vec<D> mean_contact_force(int a, int b) const {
-    return impulse_time_ > 0 ? Vec<D>(contact_impulse_[a * num_bodies() + b] / impulse_time_)
-                             : contact_force(a, b);
-  }
-  InterfaceForce mean_interface_force(std::size_t f) const {
-    if (impulse_time_ <= 0) return interface_force_[f];
-    const InterfaceForce& I = interface_impulse_[f];
-    return {I.cohesive / impulse_time_, I.frictional / impulse_time_, I.normal / impulse_time_};
-  }
-  void reset_force_means();
 
-  // The last step's contact force at every node where contact corrected a body, in node order
-  // (recorded only when the case's output.contact_nodes is on).
-  std::vector<ContactNodeForce<D>> contact_nodes() const;
+  // Contact and interface totals of the last step, their time means since reset_force_means(),
+  // and the contact force at every node where contact corrected a body (contact_record.hpp).
+  const Vec<D>& contact_force(int a, int b) const { return record_.force(a, b); }
+  const std::vector<InterfaceForce>& interface_forces() const { return record_.interface_force; }
+  Vec<D> mean_contact_force(int a, int b) const { return record_.mean_force(a, b); }
+  InterfaceForce mean_interface_force(std::size_t f) const {
+    return record_.mean_interface_force(f);
+  }
+  void reset_force_means() { record_.reset_means(); }
+  std::vector<ContactNodeForce<D>> contact_nodes() const { return record_.nodes(); }
 
   // Energy budget of body b since release (or the start, without settling), J (per unit thickness
   // in 2D): the work of gravity, of the contact and interface forces (the kinetic energy they add
@@ -93,7 +73,7 @@ public:
   // energy, what does not balance is the scheme's own dissipation and the work of the grid
   // conditions.
   double gravity_work(int b) const;
-  double contact_work(int b) const { return contact_work_[b]; }
+  double contact_work(int b) const { return record_.work[b]; }
   double internal_work(int b) const { return internal_work_[b]; }
   double strain_energy(int b) const;
   // The elastic energy at release (or at the start, without settling).
@@ -128,42 +108,46 @@ public:
         throw CheckpointError(source + ": corrupt checkpoint (particle array length)");
     });
     ar.io(time_), ar.io(dt_), ar.io(dt_reference_), ar.io(steps_), ar.io(settling_);
-    ar.io(index_of_id_), ar.io(contact_force_), ar.io(interface_force_);
-    ar.io(contact_impulse_), ar.io(interface_impulse_), ar.io(impulse_time_);
-    ar.io(contact_work_), ar.io(internal_work_), ar.io(strain_energy0_);
-    std::fill(fixed_field_ready_.begin(), fixed_field_ready_.end(), 0); // rescatter: same sums
+    ar.io(index_of_id_), ar.io(record_.force_), ar.io(record_.interface_force);
+    ar.io(record_.impulse_), ar.io(record_.interface_impulse), ar.io(record_.impulse_time);
+    ar.io(record_.work), ar.io(internal_work_), ar.io(strain_energy0_);
+    drop_held_fields(); // rescattered from the restored particles: the same sums
   }
 
   // Initial conditions that a case file cannot express (tests set a velocity field here).
   Particles<D>& particles_mut() {
-    shape_step_ = -1;           // the caller may move particles
+    invalidate_shape();         // the caller may move particles
     particles_checked_ = false; // and the next step checks them all
-    std::fill(fixed_field_ready_.begin(), fixed_field_ready_.end(), 0); // and fixed bodies
+    drop_held_fields();         // and fixed bodies
     return particles_;
   }
 
   // Whether body b's field is held from an earlier step instead of scattered (a fixed body).
-  bool fixed_field_cached(int b) const { return fixed_field_ready_[b] != 0; }
+  bool fixed_field_cached(int b) const { return field_held_[b] != 0; }
 
-  // The phases of step(), public so the tests can check each transfer on its own.
+  // The phases of step() (docs/architecture.md), public so the tests can run each on its own.
+  // Each one's definition starts with what it reads and what it writes.
   void sort_particles_by_cell();
   void bin_particles_by_slab();
   void fit_body_fields();
   void map_particles_to_nodes(bool with_forces);
   void map_forces_to_nodes();
-  // MUSL's particle velocity update, move and momentum re-map in one coloured pass.
-  void update_velocities_and_remap(double dt);
-  void compute_node_velocities(double dt);
-  // Contact on one velocity array of every body field (v, v_new or v_remap).
+  void exchange_node_halos() {} // one process: every node's sums are complete already
+  void compute_node_velocities();
+  void integrate_node_forces(double dt);
+  void apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*velocity);
+  // Contact on one velocity array of every body field (v, v_new or v_remap); `record` keeps its
+  // forces, work, contact nodes and the interfaces' slip rates.
   void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, bool record);
-  // What one G2P pass does: blend the particle velocity, move the particle, and/or update F,
-  // volume and stress from the velocity gradient of the field `strain_rate`.
-  struct Gather {
-    bool velocity = false;
-    bool move = false;
-    std::vector<Vec<D>> BodyField<D>::*strain_rate = nullptr;
-  };
-  void map_nodes_to_particles(double dt, const Gather& what);
+  void exchange_particle_halos() {} // one process: every particle's nodes are here
+  // G2P of the velocity and position (eq. 22-23), from v and v_new.
+  void update_particles(double dt);
+  // MUSL's particle update and momentum re-map in one coloured pass, then the re-mapped velocity.
+  void update_particles_and_remap(double dt);
+  // F, volume and stress from the velocity gradient of `velocity` (eq. 24-28).
+  void update_stress(std::vector<Vec<D>> BodyField<D>::*velocity, double dt);
+  // The interface particles' slip, cohesion and friction (eq. 38-39).
+  void update_interface_history(double dt);
   void check_particles() const;
   // Re-decides which particles are orphans mapped to another body's field
   // (contact.orphan_fraction).
@@ -172,6 +156,8 @@ public:
   std::int64_t orphans() const;
 
 private:
+  void begin_step(double dt_limit);
+  void end_step();
   double wave_speed(std::int64_t p, double modulus) const;
   // Finite position, velocity and stress, inside [lo, hi]; and the error naming what is not.
   bool particle_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const;
@@ -182,50 +168,44 @@ private:
            (P.x[p].array() <= hi.array()).all();
   }
   [[noreturn]] void report_bad_particle(std::size_t p) const;
+  [[noreturn]] void report_time_step_collapse(double stable, double floor) const;
   // P2G with its options fixed at compile time (see map_particles_to_nodes).
   template <bool with_forces, bool with_contact>
   void scatter_particles();
   bool reaches_other_body(int body, const ShapeWeights<D>& sw, int margin) const;
-  // One body's G2P with the gather's options fixed at compile time (model == nullptr: no stress).
-  template <class Model, bool velocity, bool move>
-  void map_nodes_to_body(int body, double dt, const Gather& what, const Model* model);
-  void gather_slip(std::size_t p, const BodyField<D>& N, const ShapeWeights<D>& sw, double dt);
-  [[noreturn]] void report_time_step_collapse(double stable, double floor) const;
-  // The transfers after the step's first P2G read its shape weights: they must be current.
-  void assert_shape_current() const {
-    if (shape_step_ != steps_ || shape_.size() != particles_.size())
-      throw std::logic_error("a transfer ran before the P2G that evaluates its shape weights");
-  }
-  void impose_rigid_velocity(std::vector<Vec<D>> BodyField<D>::*velocity);
+  template <class Model>
+  void update_body_stress(int body, std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
+                          const Model& model);
   // Calls f(p, body) for every particle, slab colour by slab colour, so that no two threads
   // write one node and every node sums its particles in one fixed order (thread-count independent).
   template <class F>
   void scatter(F&& f);
 
-  Case case_data_;
+  // The shape-weight cache: each particle's weights at its position at the start of the step,
+  // evaluated by the step's first P2G and read by every later transfer of the step (also by
+  // the stress pass after the particles moved: it uses the start-of-step weights on purpose).
+  // Whatever moves or reorders particles outside a step calls invalidate_shape().
+  void invalidate_shape() { shape_step_ = -1; }
+  void assert_shape_current() const {
+    if (shape_step_ != steps_ || shape_.size() != particles_.size())
+      throw std::logic_error("a transfer ran before the P2G that evaluates its shape weights");
+  }
+  // A fixed body's field (mass, gradient, position, bond capacities; velocity zero) is the same
+  // every step: held after its first full scatter, until this drops it.
+  void drop_held_fields() { std::fill(field_held_.begin(), field_held_.end(), 0); }
+
+  Case case_data_; // for the writers (case_()); the phases read setup_
   Grid<D> grid_;
   Particles<D> particles_;
-  std::vector<BodyField<D>> fields_;    // one per body
-  std::vector<Material> body_material_; // per body
-  std::vector<GimpFactors> body_gimp_;  // GIMP shape factors per body (its half-width lp in them)
-  std::vector<Vec<D>> rigid_velocity_;  // per body (used if rigid)
-  // A fixed body (rigid, velocity zero) never moves, so its field (mass, mass gradient, position,
-  // bond capacities; momentum zero) is the same every step: it is scattered once, in full, and
-  // then neither refitted, cleared nor scattered again (docs/performance.md). Per body.
-  std::vector<char> fixed_field_ready_;
-  bool fixed(int b) const { return case_data_.bodies[b].rigid && rigid_velocity_[b].isZero(); }
-  std::vector<double> pair_friction_; // B x B
-  std::vector<double> body_mass_;     // total mass per body: the master of a contact pair
-  std::vector<double> body_density_;  // material density per body: nodal volume shares
+  Setup<D> setup_;
+  std::vector<BodyField<D>> fields_; // one per body
+  std::vector<char> field_held_;     // per body: its field stands from an earlier step
   // Per body with geometric_normal: its surface normal at every grid node, filled as contact
   // first meets the node (NaN: not yet); unused for rigid bodies that move.
   std::vector<std::vector<Vec<D>>> normal_cache_;
-  GridConditions<D> conditions_;
-  ContactLaw contact_law_;
-  Vec<D> gravity_ = Vec<D>::Zero();
 
   // Slab binning for the coloured scatter: particles of slab s and body b are
-  // bin_index_[bin_offset_[s * B + b] .. bin_offset_[s * B + b + 1]) (none for a held fixed body).
+  // bin_index_[bin_offset_[s * B + b] .. bin_offset_[s * B + b + 1]) (none for a held field).
   int slab_width_ = 4;
   std::int64_t num_slabs_ = 1;
   std::vector<std::uint32_t> bin_index_;
@@ -234,29 +214,10 @@ private:
   std::vector<double> box_bounds_;           // fit_body_fields' per-body particle bounds
   static constexpr int orphan_interval = 10; // steps between update_orphans()
 
-  // Body `body`'s slot for interface f in its field's interface arrays.
-  int interface_slot(int body, int f) const {
-    return interface_slot_[body * static_cast<int>(case_data_.interfaces.size()) + f];
-  }
-
-  std::vector<Vec<D>> contact_force_;   // B x B, last step
-  std::vector<Vec<D>> contact_impulse_; // B x B, since reset_force_means()
-  std::vector<InterfaceForce> interface_impulse_;
-  double impulse_time_ = 0.0;
-  std::vector<int> pair_interface_;             // B x B: interface index or -1
-  std::vector<int> interface_slot_;             // B x F: the interface's slot in the body's field
-  std::vector<InterfaceForce> interface_force_; // per interface, last step
-  std::vector<InterfaceForce> interface_rows_;  // per grid row x interface
-  std::vector<Vec<D>> contact_rows_;            // per grid row x B x B, summed in row order
-  std::vector<double> contact_work_rows_;       // per grid row x B
-  std::vector<std::vector<ContactNodeForce<D>>> contact_node_rows_;   // per grid row
-  std::vector<double> contact_work_, internal_work_, strain_energy0_; // per body, since release
-  static constexpr std::int64_t work_chunk = 1024; // particles per chunk of the stress work sum
+  ContactRecord<D> record_;
+  std::vector<double> internal_work_, strain_energy0_; // per body, since release
+  static constexpr std::int64_t work_chunk = 1024;     // particles per chunk of the stress work sum
   std::vector<double> chunk_work_;
-  // Each particle's shape weights at its position at the start of the step, evaluated by the
-  // step's first P2G and read by every later transfer of the step. The particles move in the
-  // last transfer (USF, USL) or in MUSL's velocity/re-map pass, whose stress pass then reads
-  // the start-of-step weights on purpose; step() invalidates them at its end.
   std::vector<ShapeWeights<D>> shape_;
   std::int64_t shape_step_ = -1; // the step whose positions shape_ holds
 

@@ -101,12 +101,13 @@ TYPED_TEST(TransferTest, PicGatherReturnsTheGridMomentum) {
   sim.fit_body_fields();
   sim.map_particles_to_nodes(true);
   const double dt = 1e-4;
-  sim.compute_node_velocities(dt);
+  sim.compute_node_velocities();
+  sim.integrate_node_forces(dt);
   Vec<D> grid_momentum = Vec<D>::Zero();
   const auto& N = sim.fields()[0];
   for (std::size_t i = 0; i < N.size(); ++i)
     grid_momentum += N.m[i] * N.v_new[i];
-  sim.map_nodes_to_particles(dt, {.velocity = true});
+  sim.update_particles(dt); // moving does not change the momentum
   Vec<D> particle_momentum = Vec<D>::Zero();
   double mass = 0.0;
   for (std::size_t p = 0; p < sim.particles().size(); ++p)
@@ -198,8 +199,8 @@ TYPED_TEST(TransferTest, VolumeLimitKeepsTheLimitAndTheShape) {
     sim->bin_particles_by_slab();
     sim->fit_body_fields();
     sim->map_particles_to_nodes(false);
-    sim->compute_node_velocities(0.0);
-    sim->map_nodes_to_particles(0.2, {.strain_rate = &BodyField<D>::v});
+    sim->compute_node_velocities();
+    sim->update_stress(&BodyField<D>::v, 0.2);
     return sim;
   };
   const auto free = stretch(""), limited = stretch("max_volume_ratio = 1.2");

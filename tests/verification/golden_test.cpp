@@ -16,7 +16,9 @@
 #include <cstdlib>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#ifdef _OPENMP
 #include <omp.h>
+#endif
 #include <ostream>
 #include <string>
 #include <vector>

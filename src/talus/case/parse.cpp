@@ -535,25 +535,6 @@ Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& bas
   return g;
 }
 
-// Bounding box of a geometry (first dim components meaningful).
-void bounds(const Geometry& g, int dim, Vec3a& lo, Vec3a& hi) {
-  switch (g.kind) {
-  case Geometry::Kind::box:
-    lo = g.min, hi = g.max;
-    break;
-  case Geometry::Kind::disk:
-    for (int d = 0; d < dim; ++d)
-      lo[d] = g.center[d] - g.radius, hi[d] = g.center[d] + g.radius;
-    break;
-  case Geometry::Kind::polygon:
-    lo = {inf, inf, 0.0}, hi = {-inf, -inf, 0.0};
-    for (const auto& v : g.vertices)
-      for (int d = 0; d < 2; ++d)
-        lo[d] = std::min(lo[d], v[d]), hi[d] = std::max(hi[d], v[d]);
-    break;
-  }
-}
-
 // Applies "a.b.c=value" to the document. Segments index arrays by number or by an entry's name.
 void apply_override(toml::table& doc, const std::string& spec, const std::string& file) {
   const auto eq = spec.find('=');
@@ -701,7 +682,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
       b.lattice_angle = a * degrees;
     }
     Vec3a lo{}, hi{};
-    bounds(b.geometry[0], dim, lo, hi);
+    geometry_bounds(b.geometry[0], dim, lo, hi);
     for (int d = 0; d < dim; ++d) {
       const double g0 = c.grid.origin[d], g1 = g0 + c.grid.extent[d];
       if (lo[d] < g0 || hi[d] > g1)
@@ -713,10 +694,12 @@ Case parse_case_text(const std::string& text, const std::string& path,
                            "xyz"[d], lo[d], hi[d], g0, g1));
     }
     // Memory, before anything is allocated: this body's particles and velocity field on top of
-    // the bodies before it and the grid.
+    // the bodies before it and the grid (its field counted with contact, MUSL's re-map and one
+    // interface slot: the interfaces are read later).
     memory += estimate_particles(b.geometry[0], dim, c.grid.cell_size, b.particles_per_cell) *
                   bytes_per_particle(dim) +
-              field_nodes(lo, hi, dim, c.grid.cell_size) * bytes_per_field_node(dim);
+              field_nodes(lo, hi, dim, c.grid.cell_size) *
+                  bytes_per_field_node(dim, true, c.simulation.scheme == Scheme::musl, 1);
     if (memory > machine_memory())
       r.fail("particles_per_cell",
              fmt::format("the case needs about {:.3g} GB up to this body, more than this "

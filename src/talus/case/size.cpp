@@ -1,10 +1,45 @@
 #include "talus/case/size.hpp"
 
+#include "talus/particles.hpp"
+#include "talus/shape.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 #include <unistd.h>
 
 namespace talus {
+
+namespace {
+
+template <int D>
+double particle_bytes() {
+  Particles<D> P;
+  double bytes = 0.0;
+  P.for_each_array(
+      [&](auto& a) { bytes += sizeof(typename std::decay_t<decltype(a)>::value_type); });
+  bytes += sizeof(ShapeWeights<D>);                          // the shape-weight cache
+  bytes += 3 * sizeof(std::uint32_t);                        // slab bin, bin index, id index
+  bytes += sizeof(std::uint32_t) + sizeof(std::int64_t) + 1; // the sort's order, key and mark
+  return bytes;
+}
+
+} // namespace
+
+double bytes_per_particle(int dim) {
+  return dim == 2 ? particle_bytes<2>() : particle_bytes<3>();
+}
+
+double bytes_per_field_node(int dim, bool contact, bool remap, int interface_slots) {
+  const double vec = sizeof(double) * dim;
+  return sizeof(double) + 4 * vec + (contact ? 2 * vec : 0.0) + (remap ? vec : 0.0) +
+         6.0 * sizeof(double) * interface_slots;
+}
+
+double bytes_per_normal_cache_node(int dim) {
+  return sizeof(double) * dim;
+}
 
 double shape_measure(const Geometry& g, int dim) {
   switch (g.kind) {
@@ -47,6 +82,44 @@ double field_nodes(const Vec3a& lo, const Vec3a& hi, int dim, double cell_size) 
   for (int d = 0; d < dim; ++d)
     n *= (hi[d] - lo[d]) / cell_size + 4.0; // the field's box reaches a cell and a half beyond
   return n;
+}
+
+void geometry_bounds(const Geometry& g, int dim, Vec3a& lo, Vec3a& hi) {
+  switch (g.kind) {
+  case Geometry::Kind::box:
+    lo = g.min, hi = g.max;
+    break;
+  case Geometry::Kind::disk:
+    for (int d = 0; d < dim; ++d)
+      lo[d] = g.center[d] - g.radius, hi[d] = g.center[d] + g.radius;
+    break;
+  case Geometry::Kind::polygon:
+    lo = {inf, inf, 0.0}, hi = {-inf, -inf, 0.0};
+    for (const auto& v : g.vertices)
+      for (int d = 0; d < 2; ++d)
+        lo[d] = std::min(lo[d], v[d]), hi[d] = std::max(hi[d], v[d]);
+    break;
+  }
+}
+
+double estimate_memory(const Case& c, const std::vector<std::size_t>& particles) {
+  const int dim = c.simulation.dimension;
+  const double nodes = grid_nodes(c.grid, dim);
+  const bool contact = c.bodies.size() > 1, remap = c.simulation.scheme == Scheme::musl;
+  double memory = nodes * bytes_per_grid_node;
+  for (std::size_t b = 0; b < c.bodies.size(); ++b) {
+    const BodySpec& body = c.bodies[b];
+    int slots = 0;
+    for (const InterfaceSpec& f : c.interfaces)
+      slots += (f.a == static_cast<int>(b)) + (f.b == static_cast<int>(b));
+    Vec3a lo{}, hi{};
+    geometry_bounds(body.geometry[0], dim, lo, hi);
+    memory += static_cast<double>(particles[b]) * bytes_per_particle(dim);
+    memory += std::min(nodes, field_nodes(lo, hi, dim, c.grid.cell_size)) *
+              bytes_per_field_node(dim, contact, remap, slots);
+    if (body.geometric_normal) memory += nodes * bytes_per_normal_cache_node(dim);
+  }
+  return memory;
 }
 
 double machine_memory() {

@@ -5,17 +5,22 @@
 
 #include "talus/case/case.hpp"
 
+#include <cstddef>
+#include <vector>
+
 namespace talus {
 
-// Bytes per particle (Particles<D> arrays, slab bins and the sort's scratch) and per node of a
-// body's velocity field (BodyField<D>), and per grid node (conditions).
-constexpr double bytes_per_particle(int dim) {
-  return dim == 2 ? 260.0 : 350.0;
-}
-constexpr double bytes_per_field_node(int dim) {
-  return dim == 2 ? 160.0 : 216.0;
-}
-constexpr double bytes_per_grid_node = 16.0;
+// Bytes each particle holds while a run steps, counted from the types the solver allocates:
+// every Particles<D> array, its shape-weight cache entry, its slab bin, bin index and id index,
+// and the particle sort's scratch (order, key and mark).
+double bytes_per_particle(int dim);
+// Bytes per node of a body's velocity field (BodyField<D>): mass, momentum, force, v^n, v^{n+1},
+// with contact the mass gradient and position, with MUSL the re-mapped velocity, and six
+// doubles per interface slot.
+double bytes_per_field_node(int dim, bool contact, bool remap, int interface_slots);
+// Bytes per grid node of a body with geometric_normal (its cached surface normals).
+double bytes_per_normal_cache_node(int dim);
+constexpr double bytes_per_grid_node = 16.0; // the grid conditions
 
 // Area (2D) or volume (3D) of a shape, and the particles it holds at `per_cell` particles per
 // cell per direction (an estimate: exact up to the particles along the boundary).
@@ -24,6 +29,14 @@ double estimate_particles(const Geometry& g, int dim, double cell_size, int per_
 // Nodes of the whole grid, and of the node box a body's velocity field spans.
 double grid_nodes(const GridSettings& grid, int dim);
 double field_nodes(const Vec3a& lo, const Vec3a& hi, int dim, double cell_size);
+
+// Bounding box of a geometry (the first dim components are meaningful).
+void geometry_bounds(const Geometry& g, int dim, Vec3a& lo, Vec3a& hi);
+
+// The memory a run of case c allocates, in bytes, with `particles[b]` particles in body b: the
+// particles, each body's velocity field over its geometry's box, the cached normals of bodies
+// with geometric_normal and the grid conditions.
+double estimate_memory(const Case& c, const std::vector<std::size_t>& particles);
 
 // Physical memory of this machine in bytes (the limit a case must fit in).
 double machine_memory();

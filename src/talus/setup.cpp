@@ -1,0 +1,72 @@
+#include "talus/setup.hpp"
+
+namespace talus {
+
+template <int D>
+Setup<D> make_setup(const Case& c, const Grid<D>& grid, const Particles<D>& particles) {
+  Setup<D> s;
+  const int B = particles.num_bodies();
+  const int F = static_cast<int>(c.interfaces.size());
+  s.num_bodies = B, s.num_interfaces = F;
+  for (int b = 0; b < B; ++b) {
+    const BodySpec& spec = c.bodies[b];
+    BodySetup<D> body;
+    body.name = spec.name;
+    body.material = c.materials[spec.material];
+    body.material.prepare();
+    body.density = c.materials[spec.material].density();
+    body.gimp = GimpFactors(c.grid.cell_size, 0.5 * c.grid.cell_size / spec.particles_per_cell);
+    for (int d = 0; d < D; ++d)
+      body.rigid_velocity[d] = spec.velocity[d];
+    body.rigid = spec.rigid;
+    body.fixed = spec.rigid && body.rigid_velocity.isZero();
+    if (spec.geometric_normal) body.normal_geometry = spec.geometry[0];
+    for (std::size_t p = particles.body_begin[b]; p < particles.body_begin[b + 1]; ++p)
+      body.mass += particles.m[p];
+    s.bodies.push_back(std::move(body));
+  }
+  s.interfaces = c.interfaces;
+  // A pair slides with the default friction; an interface pair with its interface's initial
+  // friction where no interface particle is (bodies that meet only later), unless a [[contact]]
+  // entry names the pair.
+  s.pair_friction.assign(B * B, c.contact.friction);
+  s.pair_interface.assign(B * B, -1);
+  for (int f = 0; f < F; ++f) {
+    const int a = c.interfaces[f].a, b = c.interfaces[f].b;
+    s.pair_interface[a * B + b] = s.pair_interface[b * B + a] = f;
+    s.pair_friction[a * B + b] = s.pair_friction[b * B + a] = c.interfaces[f].friction.initial;
+  }
+  for (const ContactPair& pair : c.contact.pairs)
+    s.pair_friction[pair.a * B + pair.b] = s.pair_friction[pair.b * B + pair.a] = pair.friction;
+  // Each interface takes the next slot of each of its two bodies' fields.
+  s.interface_slots.assign(B * F, -1);
+  std::vector<int> slots(B, 0);
+  for (int f = 0; f < F; ++f)
+    for (const int b : {c.interfaces[f].a, c.interfaces[f].b})
+      s.interface_slots[b * F + f] = slots[b]++;
+  s.conditions = build_grid_conditions<D>(c, grid);
+  s.contact_law.gap_cutoff = c.contact.gap_cutoff;
+  s.contact_law.cell_size = c.grid.cell_size;
+  for (int d = 0; d < D; ++d)
+    s.gravity[d] = c.simulation.gravity[d];
+  s.scheme = c.simulation.scheme;
+  s.shape = c.grid.shape;
+  s.flip = c.simulation.flip;
+  s.damping = c.simulation.damping;
+  s.settle_damping = c.initial_state.settle_damping;
+  s.hold_interfaces = c.initial_state.hold_interfaces;
+  s.normal_smoothing = c.contact.normal_smoothing;
+  s.orphan_fraction = c.contact.orphan_fraction;
+  s.record_contact_nodes = c.output.contact_nodes;
+  s.time_step.fixed_dt = c.simulation.dt;
+  s.time_step.cfl = c.simulation.cfl;
+  s.time_step.dt_max = c.simulation.dt_max;
+  s.time_step.dt_min = c.simulation.dt_min;
+  s.time_step.settle_cfl = c.initial_state.settle_cfl;
+  return s;
+}
+
+template Setup<2> make_setup(const Case&, const Grid<2>&, const Particles<2>&);
+template Setup<3> make_setup(const Case&, const Grid<3>&, const Particles<3>&);
+
+} // namespace talus

@@ -1,0 +1,71 @@
+// Setup<D>: what is fixed for the whole run, derived once from the Case (and the particles'
+// masses) when the simulation is built. The phases of the step read this, never the Case.
+#pragma once
+
+#include "talus/boundary.hpp"
+#include "talus/case/case.hpp"
+#include "talus/contact.hpp"
+#include "talus/grid.hpp"
+#include "talus/materials/material.hpp"
+#include "talus/particles.hpp"
+#include "talus/shape.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+// One body as the phases see it.
+template <int D>
+struct BodySetup {
+  std::string name;
+  Material material;                       // prepared (derived constants filled)
+  GimpFactors gimp{1.0, 0.5};              // GIMP factors (cell, particle half-width)
+  Vec<D> rigid_velocity = Vec<D>::Zero();  // the prescribed velocity of a rigid body
+  bool rigid = false;                      // prescribed velocity, infinite mass in contact
+  bool fixed = false;                      // rigid with velocity zero: its field never changes
+  std::optional<Geometry> normal_geometry; // geometric_normal: the shape whose normal it uses
+  double mass = 0.0;                       // total: the master of a contact pair is heavier
+  double density = 0.0;                    // the material's: nodal volume shares m / rho
+};
+
+// Time-step control (simulation.dt, cfl, dt_max, dt_min; initial_state.settle_cfl).
+struct TimeStepSetup {
+  std::optional<double> fixed_dt;
+  double cfl = 0.4, dt_max = inf;
+  std::optional<double> dt_min, settle_cfl;
+};
+
+template <int D>
+struct Setup {
+  int num_bodies = 0, num_interfaces = 0;
+  std::vector<BodySetup<D>> bodies;
+  std::vector<InterfaceSpec> interfaces; // degradation curves and tensile strengths
+  std::vector<double> pair_friction;     // B x B: Coulomb coefficient of each pair
+  std::vector<int> pair_interface;       // B x B: interface index or -1
+  std::vector<int> interface_slots;      // B x F: the interface's slot in the body's field
+  GridConditions<D> conditions;          // velocity conditions of the faces and boxes
+  ContactLaw contact_law;
+  Vec<D> gravity = Vec<D>::Zero();
+  Scheme scheme = Scheme::musl;
+  ShapeKind shape = ShapeKind::gimp;
+  double flip = 1.0;
+  double damping = 0.0, settle_damping = 0.0; // local damping in motion and while settling
+  bool hold_interfaces = true;                // settling holds bonded interfaces outright
+  int normal_smoothing = 1;                   // cells
+  double orphan_fraction = 0.0;
+  bool record_contact_nodes = false; // output.contact_nodes
+  TimeStepSetup time_step;
+
+  double friction(int a, int b) const { return pair_friction[a * num_bodies + b]; }
+  int interface_of(int a, int b) const { return pair_interface[a * num_bodies + b]; }
+  // Body `body`'s slot for interface f in its field's interface arrays.
+  int slot(int body, int f) const { return interface_slots[body * num_interfaces + f]; }
+};
+
+// Builds the setup of case c on its grid, with each body's total mass from its particles.
+template <int D>
+Setup<D> make_setup(const Case& c, const Grid<D>& grid, const Particles<D>& particles);
+
+} // namespace talus

@@ -1,0 +1,221 @@
+// The contact pass (ARCHITECTURE.md step 5, eq. 29-37): at every node two or more bodies share,
+// the node as the contact law sees it, each body's friction and bond there, the law, and with
+// `record` the forces, work, contact nodes and interface slip rates it leaves behind.
+#include "talus/case/geometry.hpp"
+#include "talus/solver.hpp"
+#include "talus/solver/detail.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace talus {
+
+namespace {
+
+using detail::heaviest_other;
+using detail::is_slave;
+
+// The global node range [lo, hi) where at least two bodies' boxes overlap; false if none do.
+template <int D>
+bool shared_nodes(const std::vector<BodyField<D>>& fields, Index<D>& lo, Index<D>& hi) {
+  const int B = static_cast<int>(fields.size());
+  bool any = false;
+  for (int a = 0; a < B; ++a)
+    for (int b = a + 1; b < B; ++b) {
+      Index<D> l, h;
+      bool overlap = true;
+      for (int d = 0; d < D; ++d) {
+        l[d] = std::max(fields[a].offset[d], fields[b].offset[d]);
+        h[d] = std::min(fields[a].offset[d] + fields[a].box.nodes[d],
+                        fields[b].offset[d] + fields[b].box.nodes[d]);
+        overlap = overlap && l[d] < h[d];
+      }
+      if (!overlap) continue;
+      for (int d = 0; d < D; ++d)
+        lo[d] = any ? std::min(lo[d], l[d]) : l[d], hi[d] = any ? std::max(hi[d], h[d]) : h[d];
+      any = true;
+    }
+  return any;
+}
+
+// A body's mass gradient at node g smoothed over the nodes within `radius` cells of it, with
+// weights prod_d (radius + 1 - |o_d|) (contact.normal_smoothing, docs/formulation.md). The body's
+// box holds the gradient sums at every node within `radius` of another body's box (the scatter
+// maps them there), so every node read here is complete.
+template <int D>
+Vec<D> smoothed_gradient(const BodyField<D>& N, const Index<D>& g, int radius) {
+  Vec<D> sum = Vec<D>::Zero();
+  Index<D> o;
+  o.fill(-radius);
+  while (true) {
+    Index<D> j;
+    double w = 1.0;
+    for (int d = 0; d < D; ++d)
+      j[d] = g[d] + o[d], w *= radius + 1 - std::abs(o[d]);
+    if (const std::int64_t i = N.local(j); i >= 0) sum += w * N.grad_m[i];
+    int d = D - 1;
+    while (d >= 0 && ++o[d] > radius)
+      o[d] = -radius, --d;
+    if (d < 0) break;
+  }
+  return sum;
+}
+
+// Each body's friction at the node is that of its pair with the heaviest other body there; on
+// an interface pair the slave body's interface particles give the friction and the cohesive and
+// tensile capacities (eq. 37). Settling with hold_interfaces holds a bond outright.
+template <int D>
+void set_pair_properties(ContactNode<D>& node, const std::int64_t* local, const Setup<D>& setup,
+                         const std::vector<BodyField<D>>& fields, bool settling) {
+  for (int k = 0; k < node.n; ++k) {
+    const int other = heaviest_other(node, k);
+    node.mu[k] = setup.friction(node.body[k], node.body[other]);
+    node.cohesion[k] = node.tension[k] = 0.0;
+    if (const int f = setup.interface_of(node.body[k], node.body[other]); f >= 0) {
+      const int s = is_slave(node, k, other) ? k : other;
+      const BodyField<D>& S = fields[node.body[s]];
+      const std::int64_t i = local[s] * S.slots + setup.slot(node.body[s], f);
+      if (S.area[i] > 0.0) {
+        node.mu[k] = S.friction_area[i] / S.area[i];
+        node.cohesion[k] = S.cohesion[i];
+        node.tension[k] = S.tension[i];
+        if (settling && setup.hold_interfaces) node.cohesion[k] = node.tension[k] = inf;
+      }
+    }
+  }
+}
+
+// Slip rate (eq. 38-39, as the interface's relative displacement), written to the node's slot of
+// the body's interface with its partner (the heaviest other body there, whose friction and bond
+// the node used; a third body sliding past is not the interface): where the node holds the
+// bodies together, the tangential relative velocity after contact; where a bond has opened past
+// its tensile capacity, the whole relative velocity (an opened bond breaks as sliding does, and
+// does not heal). Weighted by how evenly the two bodies share the node's volume (m / rho),
+// 4 s (1 - s), and not measured where either has less than min_slip_share of it: at such a
+// fringe node one body's velocity is a force over a round-off mass (docs/formulation.md).
+template <int D>
+void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const Setup<D>& setup,
+                  std::vector<BodyField<D>>& fields) {
+  for (int k = 0; k < node.n; ++k) {
+    BodyField<D>& K = fields[node.body[k]];
+    if (!K.needs.interfaces || !(node.closed[k] || node.opened[k])) continue;
+    const int other = heaviest_other(node, k);
+    const int f = setup.interface_of(node.body[k], node.body[other]);
+    if (f < 0) continue; // no bond
+    const Vec<D> rel = node.v[k] - node.v[other];
+    const Vec<D>& nrm = node.normal[k];
+    const double v_k = node.m[k] / setup.bodies[node.body[k]].density;
+    const double v_other = node.m[other] / setup.bodies[node.body[other]].density;
+    const double s = v_other / (v_k + v_other);
+    if (std::min(s, 1.0 - s) < detail::min_slip_share) continue; // a fringe: no velocity to trust
+    const double share = 4.0 * s * (1.0 - s);
+    const double rate = node.opened[k] ? rel.norm() : (rel - rel.dot(nrm) * nrm).norm();
+    const std::int64_t j = local[k] * K.slots + setup.slot(node.body[k], f);
+    K.slip_rate[j] = share * rate;
+    K.slip_weight[j] = share;
+  }
+}
+
+} // namespace
+
+// Reads every field's m, grad m, mx, the bond capacities and the array `velocity`; writes
+// `velocity` where contact corrects it, and with `record` the contact record (forces, work,
+// contact nodes, interface totals) and the interfaces' slip rates. Nodes are visited row by row
+// along x; the record sums per row and then in row order (thread-count independent).
+template <int D>
+void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
+                                  bool record) {
+  const int B = num_bodies();
+  if (B < 2) return;
+  Index<D> lo, hi;
+  const bool any = shared_nodes<D>(fields_, lo, hi);
+  const std::int64_t rows = any ? hi[0] - lo[0] : 0;
+  if (record) record_.begin(rows, setup_.record_contact_nodes);
+  if (!any) return;
+#pragma omp parallel for schedule(dynamic, 4)
+  for (std::int64_t r = 0; r < rows; ++r) {
+    Index<D> g = lo;
+    g[0] = lo[0] + r;
+    while (true) {
+      // The node as the law sees it: each body with mass here.
+      ContactNode<D> node;
+      std::int64_t local[max_bodies_at_node];
+      for (int b = 0; b < B && node.n < max_bodies_at_node; ++b) {
+        const std::int64_t i = fields_[b].local(g);
+        if (i < 0 || fields_[b].m[i] <= 0.0) continue;
+        const BodyField<D>& N = fields_[b];
+        const BodySetup<D>& body = setup_.bodies[b];
+        const int k = node.n++;
+        node.body[k] = b, local[k] = i;
+        node.m[k] = N.m[i];
+        node.v[k] = (N.*velocity)[i];
+        node.grad_m[k] = N.grad_m[i];
+        node.x[k] = N.mx[i] / N.m[i];
+        node.rigid[k] = body.rigid;
+        node.rank[k] = body.mass + 1e-9 * b; // ties broken by body order
+        node.surface_normal[k].setZero();
+        if (body.normal_geometry) {
+          // The exact normal of the body's geometry (moved with a rigid body's velocity). A body
+          // whose geometry stays put keeps each node's normal in a cache.
+          const bool moves = body.rigid && !body.rigid_velocity.isZero();
+          Vec<D>* cached = moves ? nullptr : &normal_cache_[b][grid_.node_index(g)];
+          if (cached && !std::isnan((*cached)[0])) {
+            node.surface_normal[k] = *cached;
+          } else {
+            const Vec<D> x_I = grid_.node_position(g) -
+                               (moves ? Vec<D>(body.rigid_velocity * time_) : Vec<D>::Zero());
+            node.surface_normal[k] = surface_normal<D>(*body.normal_geometry, x_I);
+            if (cached) *cached = node.surface_normal[k]; // this row's thread alone writes it
+          }
+        }
+      }
+      if (node.n >= 2) {
+        // Normals from mass gradients smoothed over the neighbouring nodes: a lattice-sampled
+        // surface's raw gradient tilts by a degree or more from node to node.
+        if (const int radius = setup_.normal_smoothing; radius > 0)
+          for (int k = 0; k < node.n; ++k)
+            if (node.surface_normal[k].isZero())
+              node.grad_m[k] = smoothed_gradient<D>(fields_[node.body[k]], g, radius);
+        set_pair_properties(node, local, setup_, fields_, settling_);
+        Vec<D> before[max_bodies_at_node];
+        for (int k = 0; k < node.n; ++k)
+          before[k] = node.v[k];
+        if (resolve_contact(node, setup_.contact_law, dt)) {
+          for (int k = 0; k < node.n; ++k) {
+            (fields_[node.body[k]].*velocity)[local[k]] = node.v[k];
+            if (!record) continue;
+            const int other = heaviest_other(node, k);
+            const Vec<D> dp = node.m[k] * (node.v[k] - before[k]);
+            record_.add_force(r, node.body[k], node.body[other], dp / dt);
+            // The contact's work on the body over the step: its impulse times the node's mean
+            // velocity over the step, (v^n + v^{n+1}) / 2, the velocity the particles move with.
+            const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
+            record_.add_work(r, node.body[k],
+                             node.m[k] * (node.v[k] - before[k]).dot(0.5 * (v_start + node.v[k])));
+            if (setup_.record_contact_nodes && node.v[k] != before[k])
+              record_.add_node(r, {grid_.node_position(g), node.body[k], node.body[other],
+                                   Vec<D>(dp / dt), node.normal[k], node.friction_impulse[k] / dt,
+                                   node.cohesion_impulse[k] / dt});
+            const int f = setup_.interface_of(node.body[k], node.body[other]);
+            if (f >= 0 && is_slave(node, k, other)) // the slave side, counted once
+              record_.add_interface(r, f, node.cohesion_impulse[k] / dt,
+                                    node.friction_impulse[k] / dt, node.normal_impulse[k] / dt);
+          }
+        }
+        if (record) measure_slip(node, local, setup_, fields_);
+      }
+      int d = D - 1;
+      while (d >= 1 && ++g[d] == hi[d])
+        g[d] = lo[d], --d;
+      if (d < 1) break;
+    }
+  }
+  if (record) record_.end();
+}
+
+#define TALUS_INSTANTIATE(D)                                                                       \
+  template void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*, double, bool);
+TALUS_INSTANTIATE(2)
+TALUS_INSTANTIATE(3)
+
+} // namespace talus

@@ -1,0 +1,50 @@
+// Helpers shared by the files of the solver's phases (not part of the library's interface).
+#pragma once
+
+#include "talus/contact.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+
+namespace talus::detail {
+
+using Clock = std::chrono::steady_clock;
+inline double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Records the smallest bad particle index seen by any thread.
+inline void record_bad(std::atomic<std::size_t>& first, std::size_t p) {
+  std::size_t cur = first.load();
+  while (p < cur && !first.compare_exchange_weak(cur, p)) {
+  }
+}
+
+// The body at a contact node that body k's pair is with: the heaviest other body there (its
+// friction and bond apply at the node, and the node's force on k is booked to it).
+template <int D>
+int heaviest_other(const ContactNode<D>& node, int k) {
+  int other = k == 0 ? 1 : 0;
+  for (int j = 0; j < node.n; ++j)
+    if (j != k && node.m[j] > node.m[other]) other = j;
+  return other;
+}
+
+// Whether body k is the slave of its pair with `other` at a node: the side whose interface
+// particles carry the bond (capacities, friction, degradation) and whose impulses the interface
+// totals count. Against a rigid body, the deformable one (a rigid body's particles are never
+// corrected and record no slip); otherwise the lighter (the lower rank, as for the normal).
+template <int D>
+bool is_slave(const ContactNode<D>& node, int k, int other) {
+  if (node.rigid[k] != node.rigid[other]) return !node.rigid[k];
+  return node.rank[k] < node.rank[other];
+}
+
+// Interface slip (docs/formulation.md): a node measures it only where each of the two bodies has
+// at least this share of their volume there; a particle with less weight than min_slip_weight on
+// the nodes that measure it takes a proportionally smaller rate.
+constexpr double min_slip_share = 0.05;
+constexpr double min_slip_weight = 0.05;
+
+} // namespace talus::detail

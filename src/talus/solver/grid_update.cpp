@@ -1,0 +1,65 @@
+// The grid update (eq. 19-20): nodal velocities from momentum and force, with local damping, and
+// the velocity conditions (the faces' and boxes', and the rigid bodies' prescribed velocities).
+#include "talus/boundary.hpp"
+#include "talus/solver.hpp"
+
+#include <cmath>
+
+namespace talus {
+
+// Eq. 19. Reads each field's m and p; writes v^n = p / m (zero where m = 0).
+template <int D>
+void Simulation<D>::compute_node_velocities() {
+  for (int b = 0; b < num_bodies(); ++b) {
+    BodyField<D>& N = fields_[b];
+    const std::int64_t n = static_cast<std::int64_t>(N.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i)
+      N.v[i] = N.m[i] > 0.0 ? Vec<D>(N.p[i] / N.m[i]) : Vec<D>::Zero();
+  }
+}
+
+// Eq. 20 with local (Cundall) damping: f_d = f - alpha |f| sign(v). Reads each field's m, p and
+// f; writes v^{n+1} = p / m + f_d / m dt (zero where m = 0), from the unconstrained p / m.
+template <int D>
+void Simulation<D>::integrate_node_forces(double dt) {
+  const double alpha = settling_ ? setup_.settle_damping : setup_.damping;
+  for (int b = 0; b < num_bodies(); ++b) {
+    BodyField<D>& N = fields_[b];
+    const std::int64_t n = static_cast<std::int64_t>(N.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) {
+      if (N.m[i] <= 0.0) {
+        N.v_new[i].setZero();
+        continue;
+      }
+      const Vec<D> v = N.p[i] / N.m[i];
+      Vec<D> f = N.f[i];
+      if (alpha > 0.0)
+        for (int d = 0; d < D; ++d)
+          f[d] -= alpha * std::abs(f[d]) * (v[d] > 0.0 ? 1.0 : (v[d] < 0.0 ? -1.0 : 0.0));
+      N.v_new[i] = v + f / N.m[i] * dt;
+    }
+  }
+}
+
+// Reads the setup's conditions; writes the field array `velocity` of every body at the nodes
+// the conditions cover, then a rigid body's whole field to its prescribed velocity.
+template <int D>
+void Simulation<D>::apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*velocity) {
+  for (int b = 0; b < num_bodies(); ++b)
+    apply_grid_conditions<D>(setup_.conditions, b, fields_[b], fields_[b].*velocity);
+  for (int b = 0; b < num_bodies(); ++b)
+    if (setup_.bodies[b].rigid)
+      std::fill((fields_[b].*velocity).begin(), (fields_[b].*velocity).end(),
+                setup_.bodies[b].rigid_velocity);
+}
+
+#define TALUS_INSTANTIATE(D)                                                                       \
+  template void Simulation<D>::compute_node_velocities();                                          \
+  template void Simulation<D>::integrate_node_forces(double);                                      \
+  template void Simulation<D>::apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*);
+TALUS_INSTANTIATE(2)
+TALUS_INSTANTIATE(3)
+
+} // namespace talus

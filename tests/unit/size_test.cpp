@@ -1,0 +1,93 @@
+#include "talus/case/geometry.hpp"
+#include "talus/case/parse.hpp"
+#include "talus/case/size.hpp"
+#include "talus/solver.hpp"
+
+#include <fstream>
+#include <gtest/gtest.h>
+#include <limits>
+#include <string>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
+namespace talus {
+namespace {
+
+// The process's resident set now and its peak since the last reset_peak() (Linux; 0 if not).
+struct Rss {
+  double now = 0.0, peak = 0.0;
+};
+Rss read_rss() {
+  Rss r;
+  std::ifstream in("/proc/self/status");
+  std::string key;
+  double kb;
+  while (in >> key) {
+    if (key == "VmRSS:" && in >> kb) r.now = kb * 1024.0;
+    if (key == "VmHWM:" && in >> kb) r.peak = kb * 1024.0;
+    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  return r;
+}
+void reset_peak() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+  std::ofstream("/proc/self/clear_refs") << "5";
+}
+
+// The estimate `talus check` prints and the parser refuses by is within 25 % of the rise of the
+// peak resident set over building the simulation and 20 steps.
+template <int D>
+void expect_estimate_near_peak(const std::string& file, const std::vector<std::string>& set) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer's shadow memory is in the resident set";
+#endif
+  const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/" + file, set);
+  std::vector<std::size_t> counts;
+  for (std::size_t b = 0; b < c.bodies.size(); ++b)
+    counts.push_back(count_particles(c, b));
+  const double estimate = estimate_memory(c, counts);
+  reset_peak();
+  const Rss before = read_rss();
+  if (before.peak == 0.0) GTEST_SKIP() << "no /proc/self/status";
+  double rise = 0.0;
+  {
+    Simulation<D> sim(c);
+    for (int s = 0; s < 20; ++s)
+      sim.step();
+    rise = read_rss().peak - before.now;
+  }
+  EXPECT_NEAR(estimate / rise, 1.0, 0.25)
+      << file << ": estimate " << estimate / 1e6 << " MB, peak rise " << rise / 1e6 << " MB";
+}
+
+TEST(MemoryEstimate, OneBodyColumnWithin25PercentOfThePeak) {
+  expect_estimate_near_peak<2>("bench/column.toml", {});
+}
+
+TEST(MemoryEstimate, ThreeBodyVaiontWithin25PercentOfThePeak) {
+  expect_estimate_near_peak<2>("cases/vaiont/three_bodies.toml",
+                               {"grid.cell_size=4", "initial_state.settle_time=0"});
+}
+
+TEST(MemoryEstimate, SphereIn3DWithin25PercentOfThePeak) {
+  expect_estimate_near_peak<3>("cases/benchmarks/rolling_sphere.toml", {"grid.cell_size=0.05"});
+}
+
+// Counted from the types: a 2D particle holds at least its own arrays (positions, velocity,
+// stress, F, ...) and more in 3D.
+TEST(MemoryEstimate, BytesPerParticleFromTheTypes) {
+  Particles<2> P2;
+  double own = 0.0;
+  P2.for_each_array(
+      [&](auto& a) { own += sizeof(typename std::decay_t<decltype(a)>::value_type); });
+  EXPECT_GT(bytes_per_particle(2), own);
+  EXPECT_GT(bytes_per_particle(3), bytes_per_particle(2));
+  EXPECT_EQ(bytes_per_field_node(2, false, false, 0), 8.0 + 4 * 16.0);
+  EXPECT_EQ(bytes_per_field_node(3, true, true, 2), 8.0 + 7 * 24.0 + 12 * 8.0);
+}
+
+} // namespace
+} // namespace talus
