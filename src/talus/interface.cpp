@@ -10,6 +10,20 @@
 
 namespace talus {
 
+// The interface degradation law (paper Figure 11): property value at slip s.
+double Degradation::at(double s, DegradationCurve curve) const {
+  const double r = s / slip;
+  switch (curve) {
+  case DegradationCurve::linear:
+    return initial + (residual - initial) * std::min(1.0, r);
+  case DegradationCurve::bilinear:
+    return r <= 0.5 ? initial : initial + (residual - initial) * std::min(1.0, 2.0 * r - 1.0);
+  case DegradationCurve::exponential:
+    return residual + (initial - residual) * std::exp(-3.0 * r);
+  }
+  return initial;
+}
+
 namespace {
 
 // Particles binned by grid cell, to visit those near a point (in the 3^D cells around it).

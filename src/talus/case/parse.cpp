@@ -1,6 +1,7 @@
 #include "talus/case/parse.hpp"
 
 #include "talus/case/size.hpp"
+#include "talus/case/toml_reader.hpp"
 
 #include <toml++/toml.h>
 
@@ -16,247 +17,9 @@
 #include <utility>
 
 namespace talus {
-
-double Degradation::at(double s, DegradationCurve curve) const {
-  const double r = s / slip;
-  switch (curve) {
-  case DegradationCurve::linear:
-    return initial + (residual - initial) * std::min(1.0, r);
-  case DegradationCurve::bilinear:
-    return r <= 0.5 ? initial : initial + (residual - initial) * std::min(1.0, 2.0 * r - 1.0);
-  case DegradationCurve::exponential:
-    return residual + (initial - residual) * std::exp(-3.0 * r);
-  }
-  return initial;
-}
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j)
-    row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
 namespace {
 
-std::string suggest(const std::string& word, const std::vector<std::string>& choices) {
-  std::string best;
-  std::size_t best_d = std::max<std::size_t>(3, word.size() / 2) + 1;
-  for (const auto& c : choices) {
-    const std::size_t d = edit_distance(word, c);
-    if (d < best_d) best_d = d, best = c;
-  }
-  return best.empty() ? std::string{} : fmt::format(" (did you mean '{}'?)", best);
-}
-
-// Where an error points: the file and the line of a node (0 when it came from --set).
-struct Where {
-  std::string file;
-  [[noreturn]] void fail(const toml::source_region& src, const std::string& key,
-                         const std::string& msg) const {
-    const auto line = src.begin.line;
-    if (line == 0) throw CaseError(fmt::format("{}: (from --set) {}: {}", file, key, msg));
-    throw CaseError(fmt::format("{}:{}: {}: {}", file, line, key, msg));
-  }
-};
-
-// Reads one TOML table, remembering which keys were used so the leftovers are reported as
-// unknown with the nearest valid key.
-class TableReader {
-public:
-  TableReader(const toml::table& t, std::string path, const Where& where)
-      : t_(t), path_(std::move(path)), where_(where) {}
-
-  std::string key_path(const std::string& key) const {
-    return path_.empty() ? key : path_ + "." + key;
-  }
-  const toml::node* find(const std::string& key) {
-    known_.insert(key);
-    return t_.get(key);
-  }
-  bool has(const std::string& key) {
-    known_.insert(key);
-    return t_.contains(key);
-  }
-  [[noreturn]] void fail(const std::string& key, const std::string& msg) const {
-    const toml::node* n = t_.get(key);
-    where_.fail(n ? n->source() : t_.source(), key_path(key), msg);
-  }
-  // A missing key, pointing at a present key that looks like a misspelling of it.
-  [[noreturn]] void fail_missing(const std::string& key) const {
-    for (auto&& [k, v] : t_) {
-      const std::string name(k.str());
-      if (!known_.count(name) &&
-          edit_distance(name, key) <= std::max<std::size_t>(2, key.size() / 3))
-        where_.fail(
-            t_.source(), key_path(key),
-            fmt::format("required key is missing (line {} has '{}')", v.source().begin.line, name));
-    }
-    where_.fail(t_.source(), key_path(key), "required key is missing");
-  }
-
-  double number(const std::string& key) {
-    const toml::node* n = find(key);
-    if (!n) fail_missing(key);
-    return as_number(*n, key);
-  }
-  double number(const std::string& key, double fallback) {
-    return has(key) ? number(key) : fallback;
-  }
-  std::optional<double> optional_number(const std::string& key) {
-    if (!has(key)) return std::nullopt;
-    return number(key);
-  }
-  // An integer in [lo, hi] (checked before any narrowing, so 2^32 + 2 is not 2).
-  int integer(const std::string& key, int fallback, int lo, int hi) {
-    const toml::node* n = find(key);
-    if (!n) return fallback;
-    if (!n->is_integer()) fail(key, fmt::format("expected an integer, got {}", type_name(*n)));
-    const long long v = n->value<long long>().value();
-    if (v < lo || v > hi) fail(key, fmt::format("must be in [{}, {}], got {}", lo, hi, v));
-    return static_cast<int>(v);
-  }
-  // A name: a non-empty string.
-  std::string name(const std::string& key, const std::string& fallback) {
-    const std::string s = has(key) || fallback.empty() ? string(key) : fallback;
-    if (s.find_first_not_of(" \t") == std::string::npos) fail(key, "must not be empty");
-    return s;
-  }
-  bool boolean(const std::string& key, bool fallback) {
-    const toml::node* n = find(key);
-    if (!n) return fallback;
-    if (!n->is_boolean()) fail(key, fmt::format("expected true or false, got {}", type_name(*n)));
-    return n->value<bool>().value();
-  }
-  std::string string(const std::string& key) {
-    const toml::node* n = find(key);
-    if (!n) fail_missing(key);
-    if (!n->is_string()) fail(key, fmt::format("expected a string, got {}", type_name(*n)));
-    return n->value<std::string>().value();
-  }
-  std::string string(const std::string& key, const std::string& fallback) {
-    return has(key) ? string(key) : fallback;
-  }
-  // A string that must be one of `choices`.
-  std::string choice(const std::string& key, const std::vector<std::string>& choices,
-                     const std::string& fallback) {
-    const std::string s = string(key, fallback);
-    if (std::find(choices.begin(), choices.end(), s) == choices.end()) {
-      std::string list;
-      for (const auto& c : choices)
-        list += (list.empty() ? "" : ", ") + c;
-      fail(key, fmt::format("'{}' is not one of: {}{}", s, list, suggest(s, choices)));
-    }
-    return s;
-  }
-  // A vector of exactly n numbers (n = the case's dimension).
-  Vec3a vector(const std::string& key, int n) {
-    const toml::node* node = find(key);
-    if (!node) fail_missing(key);
-    return as_vector(*node, key, n);
-  }
-  Vec3a vector(const std::string& key, int n, const Vec3a& fallback) {
-    return has(key) ? vector(key, n) : fallback;
-  }
-  const toml::table* table(const std::string& key) {
-    const toml::node* n = find(key);
-    if (!n) return nullptr;
-    if (!n->is_table()) fail(key, fmt::format("expected a table, got {}", type_name(*n)));
-    return n->as_table();
-  }
-  const toml::array* array(const std::string& key) {
-    const toml::node* n = find(key);
-    if (!n) return nullptr;
-    if (!n->is_array()) fail(key, fmt::format("expected an array, got {}", type_name(*n)));
-    return n->as_array();
-  }
-
-  // Reports the first key that no one asked for.
-  void finish() const {
-    std::vector<std::string> known(known_.begin(), known_.end());
-    for (auto&& [k, v] : t_) {
-      const std::string name(k.str());
-      if (!known_.count(name))
-        where_.fail(k.source().begin.line ? k.source() : v.source(), key_path(name),
-                    "unknown key" + suggest(name, known));
-    }
-  }
-
-  double as_number(const toml::node& n, const std::string& key) const {
-    if (n.is_floating_point()) {
-      const double v = n.value<double>().value();
-      if (!std::isfinite(v)) where_.fail(n.source(), key_path(key), "must be a finite number");
-      return v;
-    }
-    if (n.is_integer()) return static_cast<double>(n.value<long long>().value());
-    where_.fail(n.source(), key_path(key), fmt::format("expected a number, got {}", type_name(n)));
-  }
-  Vec3a as_vector(const toml::node& node, const std::string& key, int n) const {
-    const toml::array* a = node.as_array();
-    if (!a || static_cast<int>(a->size()) != n)
-      where_.fail(node.source(), key_path(key),
-                  fmt::format("expected an array of {} numbers (one per dimension)", n));
-    Vec3a v{0.0, 0.0, 0.0};
-    for (int i = 0; i < n; ++i)
-      v[i] = as_number(*a->get(i), fmt::format("{}[{}]", key, i));
-    return v;
-  }
-  static std::string type_name(const toml::node& n) {
-    switch (n.type()) {
-    case toml::node_type::table:
-      return "a table";
-    case toml::node_type::array:
-      return "an array";
-    case toml::node_type::string:
-      return "a string";
-    case toml::node_type::integer:
-      return "an integer";
-    case toml::node_type::floating_point:
-      return "a number";
-    case toml::node_type::boolean:
-      return "a boolean";
-    default:
-      return "a date or time";
-    }
-  }
-  const Where& where() const { return where_; }
-  const toml::table& raw() const { return t_; }
-
-private:
-  const toml::table& t_;
-  std::string path_;
-  const Where& where_;
-  std::set<std::string> known_;
-};
-
-// Each [[section]] entry as a reader with path "section[i]".
-template <class F>
-void for_each_entry(TableReader& root, const std::string& key, F&& f) {
-  const toml::array* arr = root.array(key);
-  if (!arr) return;
-  for (std::size_t i = 0; i < arr->size(); ++i) {
-    const toml::node* n = arr->get(i);
-    if (!n->is_table())
-      root.where().fail(n->source(), fmt::format("{}[{}]", key, i),
-                        fmt::format("expected a table: write [[{}]] sections", key));
-    TableReader r(*n->as_table(), fmt::format("{}[{}]", key, i), root.where());
-    f(r, i);
-    r.finish();
-  }
-}
-
-void require(TableReader& r, const std::string& key, bool ok, const std::string& msg) {
-  if (!ok) r.fail(key, msg);
-}
+using namespace case_reading;
 
 SimulationSettings read_simulation(TableReader& r) {
   SimulationSettings s;
@@ -387,48 +150,6 @@ Material read_material(TableReader& r) {
           "only for the plastic models: an elastic particle's tension would keep growing while "
           "its volume stays at the limit");
   return m;
-}
-
-// Which of a list of named things a key refers to.
-int lookup(TableReader& r, const std::string& key, const std::vector<std::string>& names,
-           const std::string& what) {
-  const std::string s = r.string(key);
-  const auto it = std::find(names.begin(), names.end(), s);
-  if (it == names.end())
-    r.fail(key, fmt::format("no {} is named '{}'{}", what, s, suggest(s, names)));
-  return static_cast<int>(it - names.begin());
-}
-
-// `bodies = ["a", "b"]`: two different bodies, as indices.
-std::pair<int, int> read_body_pair(TableReader& r, const std::vector<std::string>& body_names) {
-  const toml::array* a = r.array("bodies");
-  if (!a) r.fail_missing("bodies");
-  if (a->size() != 2 || !a->get(0)->is_string() || !a->get(1)->is_string())
-    r.fail("bodies", "expected two body names, e.g. bodies = [\"slide\", \"bedrock\"]");
-  int ids[2];
-  for (int k = 0; k < 2; ++k) {
-    const std::string name = a->get(k)->value<std::string>().value();
-    const auto it = std::find(body_names.begin(), body_names.end(), name);
-    if (it == body_names.end())
-      r.fail("bodies", fmt::format("no body is named '{}'{}", name, suggest(name, body_names)));
-    ids[k] = static_cast<int>(it - body_names.begin());
-  }
-  if (ids[0] == ids[1]) r.fail("bodies", "a pair needs two different bodies");
-  return {ids[0], ids[1]};
-}
-
-// An optional array of strings (e.g. --set style overrides).
-std::vector<std::string> string_list(TableReader& r, const std::string& key) {
-  std::vector<std::string> out;
-  if (!r.has(key)) return out;
-  const toml::array* a = r.array(key);
-  if (!a) r.fail(key, "expected an array of strings");
-  for (std::size_t i = 0; i < a->size(); ++i) {
-    const auto s = a->get(i)->value<std::string>();
-    if (!s) r.fail(key, fmt::format("element {} is not a string", i));
-    out.push_back(*s);
-  }
-  return out;
 }
 
 constexpr std::size_t max_polygon_vertices = 20000;
@@ -576,6 +297,325 @@ void apply_override(toml::table& doc, const std::string& spec, const std::string
   t->insert_or_assign(keys.back(), *parsed.get("v"));
 }
 
+// The names of a case's materials, bodies, ... in order (for lookups and "did you mean").
+template <class T>
+std::vector<std::string> names_of(const std::vector<T>& items) {
+  std::vector<std::string> names;
+  for (const T& x : items)
+    names.push_back(x.name);
+  return names;
+}
+
+// [[material]]: the named materials (at least one).
+void read_materials(TableReader& root, Case& c) {
+  std::vector<std::string> material_names;
+  for_each_entry(root, "material", [&](TableReader& r, std::size_t) {
+    c.materials.push_back(read_material(r));
+    if (std::count(material_names.begin(), material_names.end(), c.materials.back().name))
+      r.fail("name", "two materials have this name");
+    material_names.push_back(c.materials.back().name);
+  });
+  if (c.materials.empty()) root.fail_missing("material");
+}
+
+// [[body]]: the bodies (at least one), each inside the grid and within the machine's memory.
+void read_bodies(TableReader& root, Case& c, const std::filesystem::path& base_dir) {
+  const int dim = c.simulation.dimension;
+  std::vector<std::string> body_names;
+  const std::vector<std::string> material_names = names_of(c.materials);
+  double memory = grid_nodes(c.grid, dim) * bytes_per_grid_node;
+  for_each_entry(root, "body", [&](TableReader& r, std::size_t) {
+    BodySpec b;
+    b.name = r.name("name", "");
+    if (std::count(body_names.begin(), body_names.end(), b.name))
+      r.fail("name", "two bodies have this name");
+    b.material = lookup(r, "material", material_names, "material");
+    b.geometry.push_back(read_geometry(r, dim, base_dir));
+    b.particles_per_cell = r.integer("particles_per_cell", 2, 1, 8);
+    b.velocity = r.vector("velocity", dim, Vec3a{0.0, 0.0, 0.0});
+    b.rigid = r.boolean("rigid", false);
+    b.geometric_normal = r.boolean("geometric_normal", b.rigid);
+    if (r.has("lattice_angle")) {
+      if (dim != 2) r.fail("lattice_angle", "a rotated particle lattice is 2D only");
+      const double a = r.number("lattice_angle");
+      require(r, "lattice_angle", std::abs(a) <= 90.0, "must be in [-90, 90] degrees");
+      b.lattice_angle = a * degrees;
+    }
+    Vec3a lo{}, hi{};
+    geometry_bounds(b.geometry[0], dim, lo, hi);
+    for (int d = 0; d < dim; ++d) {
+      const double g0 = c.grid.origin[d], g1 = g0 + c.grid.extent[d];
+      if (lo[d] < g0 || hi[d] > g1)
+        r.fail(b.geometry[0].kind == Geometry::Kind::polygon ? "polygon"
+               : b.geometry[0].kind == Geometry::Kind::box   ? "box"
+                                                             : (dim == 2 ? "disk" : "sphere"),
+               fmt::format("the body reaches outside the grid along {} ([{}, {}] is not inside "
+                           "[{}, {}])",
+                           "xyz"[d], lo[d], hi[d], g0, g1));
+    }
+    // Memory, before anything is allocated: this body's particles and velocity field on top of
+    // the bodies before it and the grid (its field counted with contact, MUSL's re-map and one
+    // interface slot: the interfaces are read later).
+    memory += estimate_particles(b.geometry[0], dim, c.grid.cell_size, b.particles_per_cell) *
+                  bytes_per_particle(dim) +
+              field_nodes(lo, hi, dim, c.grid.cell_size) *
+                  bytes_per_field_node(dim, true, c.simulation.scheme == Scheme::musl, 1);
+    if (memory > machine_memory())
+      r.fail("particles_per_cell",
+             fmt::format("the case needs about {:.3g} GB up to this body, more than this "
+                         "machine's {:.3g} GB: use larger grid cells or fewer particles per cell",
+                         memory / 1e9, machine_memory() / 1e9));
+    c.bodies.push_back(std::move(b));
+    body_names.push_back(c.bodies.back().name);
+  });
+  if (c.bodies.empty()) root.fail_missing("body");
+}
+
+// [[boundary]]: velocity conditions on the nodes in a box.
+void read_boundaries(TableReader& root, Case& c) {
+  const int dim = c.simulation.dimension;
+  const std::vector<std::string> body_names = names_of(c.bodies);
+  for_each_entry(root, "boundary", [&](TableReader& r, std::size_t i) {
+    BoundarySpec b;
+    b.name = r.string("name", fmt::format("boundary{}", i));
+    if (r.has("body")) b.body = lookup(r, "body", body_names, "body");
+    b.min = r.vector("min", dim, Vec3a{-inf, -inf, -inf});
+    b.max = r.vector("max", dim, Vec3a{inf, inf, inf});
+    const char* comps[3] = {"velocity_x", "velocity_y", "velocity_z"};
+    for (int d = 0; d < dim; ++d)
+      if (r.has(comps[d])) b.fixed[d] = true, b.velocity[d] = r.number(comps[d]);
+    if (r.has("velocity")) {
+      b.velocity = r.vector("velocity", dim);
+      for (int d = 0; d < dim; ++d)
+        b.fixed[d] = true;
+    }
+    if (!b.fixed[0] && !b.fixed[1] && !b.fixed[2])
+      r.fail("velocity", "a boundary must set velocity or at least one of velocity_x/_y/_z");
+    for (int d = 0; d < dim; ++d) {
+      const double g0 = c.grid.origin[d], g1 = g0 + c.grid.extent[d];
+      if (b.min[d] > b.max[d])
+        r.fail("max", fmt::format("max is below min along {}: the box holds no node", "xyz"[d]));
+      if (b.max[d] < g0 || b.min[d] > g1)
+        r.fail(r.has("min") ? "min" : "max",
+               fmt::format("the box [{}, {}] along {} misses the grid [{}, {}]: it holds no node",
+                           b.min[d], b.max[d], "xyz"[d], g0, g1));
+    }
+    c.boundaries.push_back(b);
+  });
+}
+
+// [[contact]]: an entry with `bodies` sets that pair's friction; one entry without sets the
+// default friction, the gap check, the normal smoothing and the orphan fraction.
+void read_contact(TableReader& root, Case& c) {
+  const std::vector<std::string> body_names = names_of(c.bodies);
+  bool has_default = false;
+  for_each_entry(root, "contact", [&](TableReader& r, std::size_t) {
+    const double mu = r.number("friction");
+    require(r, "friction", mu >= 0.0, "must be >= 0");
+    if (!r.has("bodies")) {
+      if (has_default)
+        r.fail("friction", "only one [[contact]] entry may omit bodies (the default)");
+      has_default = true;
+      c.contact.friction = mu;
+      c.contact.gap_cutoff = r.number("gap_cutoff", 0.8);
+      c.contact.normal_smoothing =
+          r.integer("normal_smoothing", c.contact.normal_smoothing, 0, max_normal_smoothing);
+      c.contact.orphan_fraction = r.number("orphan_fraction", c.contact.orphan_fraction);
+      require(r, "orphan_fraction",
+              c.contact.orphan_fraction >= 0.0 && c.contact.orphan_fraction < 0.5,
+              "must be in [0, 0.5) (a fraction of a filled cell's nodal mass)");
+      return;
+    }
+    const auto [first, second] = read_body_pair(r, body_names);
+    for (const ContactPair& q : c.contact.pairs)
+      if (std::minmax(q.a, q.b) == std::minmax(first, second))
+        r.fail("bodies", fmt::format("the pair '{}'-'{}' already has a [[contact]] entry",
+                                     body_names[first], body_names[second]));
+    c.contact.pairs.push_back(ContactPair{first, second, mu});
+  });
+}
+
+// [[interface]]: cohesive-frictional pairs, their degradation with slip.
+void read_interfaces(TableReader& root, Case& c) {
+  const std::vector<std::string> body_names = names_of(c.bodies);
+  for_each_entry(root, "interface", [&](TableReader& r, std::size_t) {
+    InterfaceSpec f;
+    std::tie(f.a, f.b) = read_body_pair(r, body_names);
+    for (const InterfaceSpec& q : c.interfaces)
+      if (std::minmax(q.a, q.b) == std::minmax(f.a, f.b))
+        r.fail("bodies", fmt::format("the pair '{}'-'{}' already has an [[interface]] entry",
+                                     body_names[f.a], body_names[f.b]));
+    auto degradation = [&](const std::string& key, const std::string& unit) {
+      const toml::table* t = r.table(key);
+      if (!t) r.fail_missing(key);
+      TableReader d(*t, r.key_path(key), r.where());
+      Degradation g;
+      g.initial = d.number("initial");
+      require(d, "initial", g.initial >= 0.0, "must be >= 0 " + unit);
+      g.residual = d.number("residual", g.initial);
+      require(d, "residual", g.residual >= 0.0 && g.residual <= g.initial,
+              "must be in [0, initial]");
+      g.slip = d.number("slip", 1.0);
+      require(d, "slip", g.slip > 0.0, "must be > 0 m");
+      d.finish();
+      return g;
+    };
+    f.friction = degradation("friction", "");
+    f.cohesion = degradation("cohesion", "Pa");
+    const std::string curve = r.choice("curve", {"linear", "bilinear", "exponential"}, "linear");
+    f.curve = curve == "bilinear"      ? DegradationCurve::bilinear
+              : curve == "exponential" ? DegradationCurve::exponential
+                                       : DegradationCurve::linear;
+    f.tensile_strength = r.number("tensile_strength", -1.0);
+    if (r.has("tensile_strength"))
+      require(r, "tensile_strength", f.tensile_strength >= 0.0, "must be >= 0 Pa");
+    c.interfaces.push_back(f);
+  });
+}
+
+// [initial_state]: K0 stresses and the settling phase.
+void read_initial_state(TableReader& root, Case& c) {
+  if (const toml::table* init = root.table("initial_state")) {
+    TableReader ri(*init, "initial_state", root.where());
+    const std::string method = ri.choice("method", {"none", "k0"}, "none");
+    c.initial_state.method = method == "k0" ? InitialState::Method::k0 : InitialState::Method::none;
+    if (ri.has("k0")) {
+      c.initial_state.k0 = ri.number("k0");
+      require(ri, "k0", c.initial_state.k0 > 0.0 && c.initial_state.k0 <= 3.0, "must be in (0, 3]");
+      if (c.initial_state.method != InitialState::Method::k0)
+        ri.fail("k0", "is used only with method = \"k0\"");
+    }
+    c.initial_state.settle_time = ri.number("settle_time", 0.0);
+    require(ri, "settle_time", c.initial_state.settle_time >= 0.0, "must be >= 0 s");
+    c.initial_state.settle_damping = ri.number("settle_damping", 0.2);
+    require(ri, "settle_damping",
+            c.initial_state.settle_damping >= 0.0 && c.initial_state.settle_damping < 1.0,
+            "must be in [0, 1)");
+    c.initial_state.hold_interfaces = ri.boolean("hold_interfaces", true);
+    c.initial_state.settle_cfl = ri.optional_number("settle_cfl");
+    if (c.initial_state.settle_cfl) {
+      require(ri, "settle_cfl",
+              *c.initial_state.settle_cfl > 0.0 && *c.initial_state.settle_cfl <= 1.0,
+              "must be in (0, 1]");
+      if (c.simulation.dt)
+        ri.fail("settle_cfl", "has no effect with a fixed simulation.dt: remove one");
+    }
+    ri.finish();
+  }
+}
+
+// [results]: the body whose motion the summary reports.
+void read_results(TableReader& root, Case& c) {
+  const std::vector<std::string> body_names = names_of(c.bodies);
+  if (const toml::table* res = root.table("results")) {
+    TableReader rr(*res, "results", root.where());
+    c.results.body = lookup(rr, "body", body_names, "body");
+    c.results.stop_speed = rr.number("stop_speed", 0.5);
+    require(rr, "stop_speed", c.results.stop_speed > 0.0, "must be > 0 m/s");
+    rr.finish();
+  }
+}
+
+// [[probe]]: particles followed by name.
+void read_probes(TableReader& root, Case& c) {
+  const int dim = c.simulation.dimension;
+  const std::vector<std::string> body_names = names_of(c.bodies);
+  for_each_entry(root, "probe", [&](TableReader& r, std::size_t i) {
+    ProbeSpec p;
+    p.name = r.name("name", fmt::format("probe{}", i));
+    for (const ProbeSpec& q : c.probes)
+      if (q.name == p.name) r.fail("name", "two probes have this name");
+    p.body = lookup(r, "body", body_names, "body");
+    p.near = r.vector("near", dim);
+    for (int d = 0; d < dim; ++d)
+      if (p.near[d] < c.grid.origin[d] || p.near[d] > c.grid.origin[d] + c.grid.extent[d])
+        r.fail("near", fmt::format("the point is outside the grid along {}", "xyz"[d]));
+    c.probes.push_back(p);
+  });
+}
+
+// [output]: the frames and their fields.
+void read_output(TableReader& root, Case& c) {
+  if (const toml::table* out = root.table("output")) {
+    TableReader ro(*out, "output", root.where());
+    c.output.every = ro.number("every", 0.0);
+    require(ro, "every", c.output.every >= 0.0, "must be >= 0 s");
+    c.output.particles = ro.boolean("particles", true);
+    c.output.contact_nodes = ro.boolean("contact_nodes", false);
+    if (const toml::array* f = ro.array("fields")) {
+      const std::vector<std::string> known = {
+          "velocity",       "stress", "displacement", "mass",      "volume",
+          "plastic_strain", "body",   "material",     "interface", "field"};
+      for (std::size_t i = 0; i < f->size(); ++i) {
+        const auto s = f->get(i)->value<std::string>();
+        if (!s)
+          ro.where().fail(f->get(i)->source(), fmt::format("output.fields[{}]", i),
+                          fmt::format("expected a field name (a string), got {}",
+                                      TableReader::type_name(*f->get(i))));
+        if (std::find(known.begin(), known.end(), *s) == known.end())
+          ro.where().fail(f->get(i)->source(), fmt::format("output.fields[{}]", i),
+                          fmt::format("unknown field '{}'{}", *s, suggest(*s, known)));
+        c.output.fields.push_back(*s);
+      }
+    }
+    ro.finish();
+  }
+}
+
+// [checkpoint]: how often checkpoints are written and how many are kept.
+void read_checkpoint(TableReader& root, Case& c) {
+  if (const toml::table* ck = root.table("checkpoint")) {
+    TableReader rc(*ck, "checkpoint", root.where());
+    c.checkpoint.every = rc.number("every", 0.0);
+    require(rc, "every", c.checkpoint.every >= 0.0, "must be >= 0 s (0: off)");
+    c.checkpoint.wall_minutes = rc.number("wall_minutes", 15.0);
+    require(rc, "wall_minutes", c.checkpoint.wall_minutes >= 0.0, "must be >= 0 min (0: off)");
+    c.checkpoint.keep = rc.integer("keep", 2, 1, 100);
+    rc.finish();
+  }
+}
+
+// [[check]]: verification checks (talus verify).
+void read_checks(TableReader& root, Case& c) {
+  const int dim = c.simulation.dimension;
+  for_each_entry(root, "check", [&](TableReader& r, std::size_t) {
+    CheckSpec k;
+    k.name = r.name("name", "");
+    for (const CheckSpec& q : c.checks)
+      if (q.name == k.name) r.fail("name", "two checks have this name");
+    k.quantity = r.name("quantity", "");
+    k.source = r.name("source", "");
+    if (r.has("known_miss")) k.known_miss = r.name("known_miss", "");
+    k.set = string_list(r, "set");
+    k.time = r.optional_number("time");
+    if (k.time) require(r, "time", *k.time >= 0.0, "must be >= 0 s");
+    k.reference = r.optional_number("reference");
+    k.tolerance = r.optional_number("tolerance");
+    k.abs_tolerance = r.optional_number("abs_tolerance");
+    k.min = r.optional_number("min");
+    k.max = r.optional_number("max");
+    if (k.tolerance) require(r, "tolerance", *k.tolerance > 0.0, "must be > 0 (relative)");
+    if (k.abs_tolerance) require(r, "abs_tolerance", *k.abs_tolerance > 0.0, "must be > 0");
+    if (k.reference.has_value() == (k.min || k.max))
+      r.fail("reference", "give a reference (with tolerance or abs_tolerance) or min/max bounds");
+    if (k.reference && !k.tolerance && !k.abs_tolerance)
+      r.fail("tolerance", "a reference needs tolerance (relative) or abs_tolerance");
+    if (r.has("direction")) r.vector("direction", dim);
+    if (r.has("near")) r.vector("near", dim);
+    c.checks.push_back(k);
+  });
+}
+
+// [verify]: the overrides of talus verify --quick and --full.
+void read_verify(TableReader& root, Case& c) {
+  if (const toml::table* v = root.table("verify")) {
+    TableReader rv(*v, "verify", root.where());
+    c.verify.quick = string_list(rv, "quick");
+    c.verify.full = string_list(rv, "full");
+    rv.finish();
+  }
+}
+
 } // namespace
 
 std::vector<std::array<double, 2>> read_polygon_csv(const std::string& path) {
@@ -653,269 +693,18 @@ Case parse_case_text(const std::string& text, const std::string& path,
   c.grid = read_grid(rg, dim);
   rg.finish();
 
-  std::vector<std::string> material_names;
-  for_each_entry(root, "material", [&](TableReader& r, std::size_t) {
-    c.materials.push_back(read_material(r));
-    if (std::count(material_names.begin(), material_names.end(), c.materials.back().name))
-      r.fail("name", "two materials have this name");
-    material_names.push_back(c.materials.back().name);
-  });
-  if (c.materials.empty()) root.fail_missing("material");
-
-  std::vector<std::string> body_names;
-  double memory = grid_nodes(c.grid, dim) * bytes_per_grid_node;
-  for_each_entry(root, "body", [&](TableReader& r, std::size_t) {
-    BodySpec b;
-    b.name = r.name("name", "");
-    if (std::count(body_names.begin(), body_names.end(), b.name))
-      r.fail("name", "two bodies have this name");
-    b.material = lookup(r, "material", material_names, "material");
-    b.geometry.push_back(read_geometry(r, dim, base_dir));
-    b.particles_per_cell = r.integer("particles_per_cell", 2, 1, 8);
-    b.velocity = r.vector("velocity", dim, Vec3a{0.0, 0.0, 0.0});
-    b.rigid = r.boolean("rigid", false);
-    b.geometric_normal = r.boolean("geometric_normal", b.rigid);
-    if (r.has("lattice_angle")) {
-      if (dim != 2) r.fail("lattice_angle", "a rotated particle lattice is 2D only");
-      const double a = r.number("lattice_angle");
-      require(r, "lattice_angle", std::abs(a) <= 90.0, "must be in [-90, 90] degrees");
-      b.lattice_angle = a * degrees;
-    }
-    Vec3a lo{}, hi{};
-    geometry_bounds(b.geometry[0], dim, lo, hi);
-    for (int d = 0; d < dim; ++d) {
-      const double g0 = c.grid.origin[d], g1 = g0 + c.grid.extent[d];
-      if (lo[d] < g0 || hi[d] > g1)
-        r.fail(b.geometry[0].kind == Geometry::Kind::polygon ? "polygon"
-               : b.geometry[0].kind == Geometry::Kind::box   ? "box"
-                                                             : (dim == 2 ? "disk" : "sphere"),
-               fmt::format("the body reaches outside the grid along {} ([{}, {}] is not inside "
-                           "[{}, {}])",
-                           "xyz"[d], lo[d], hi[d], g0, g1));
-    }
-    // Memory, before anything is allocated: this body's particles and velocity field on top of
-    // the bodies before it and the grid (its field counted with contact, MUSL's re-map and one
-    // interface slot: the interfaces are read later).
-    memory += estimate_particles(b.geometry[0], dim, c.grid.cell_size, b.particles_per_cell) *
-                  bytes_per_particle(dim) +
-              field_nodes(lo, hi, dim, c.grid.cell_size) *
-                  bytes_per_field_node(dim, true, c.simulation.scheme == Scheme::musl, 1);
-    if (memory > machine_memory())
-      r.fail("particles_per_cell",
-             fmt::format("the case needs about {:.3g} GB up to this body, more than this "
-                         "machine's {:.3g} GB: use larger grid cells or fewer particles per cell",
-                         memory / 1e9, machine_memory() / 1e9));
-    c.bodies.push_back(std::move(b));
-    body_names.push_back(c.bodies.back().name);
-  });
-  if (c.bodies.empty()) root.fail_missing("body");
-
-  for_each_entry(root, "boundary", [&](TableReader& r, std::size_t i) {
-    BoundarySpec b;
-    b.name = r.string("name", fmt::format("boundary{}", i));
-    if (r.has("body")) b.body = lookup(r, "body", body_names, "body");
-    b.min = r.vector("min", dim, Vec3a{-inf, -inf, -inf});
-    b.max = r.vector("max", dim, Vec3a{inf, inf, inf});
-    const char* comps[3] = {"velocity_x", "velocity_y", "velocity_z"};
-    for (int d = 0; d < dim; ++d)
-      if (r.has(comps[d])) b.fixed[d] = true, b.velocity[d] = r.number(comps[d]);
-    if (r.has("velocity")) {
-      b.velocity = r.vector("velocity", dim);
-      for (int d = 0; d < dim; ++d)
-        b.fixed[d] = true;
-    }
-    if (!b.fixed[0] && !b.fixed[1] && !b.fixed[2])
-      r.fail("velocity", "a boundary must set velocity or at least one of velocity_x/_y/_z");
-    for (int d = 0; d < dim; ++d) {
-      const double g0 = c.grid.origin[d], g1 = g0 + c.grid.extent[d];
-      if (b.min[d] > b.max[d])
-        r.fail("max", fmt::format("max is below min along {}: the box holds no node", "xyz"[d]));
-      if (b.max[d] < g0 || b.min[d] > g1)
-        r.fail(r.has("min") ? "min" : "max",
-               fmt::format("the box [{}, {}] along {} misses the grid [{}, {}]: it holds no node",
-                           b.min[d], b.max[d], "xyz"[d], g0, g1));
-    }
-    c.boundaries.push_back(b);
-  });
-
-  // [[contact]]: an entry with `bodies` sets that pair's friction; one entry without sets the
-  // default friction and the gap check.
-  bool has_default = false;
-  for_each_entry(root, "contact", [&](TableReader& r, std::size_t) {
-    const double mu = r.number("friction");
-    require(r, "friction", mu >= 0.0, "must be >= 0");
-    if (!r.has("bodies")) {
-      if (has_default)
-        r.fail("friction", "only one [[contact]] entry may omit bodies (the default)");
-      has_default = true;
-      c.contact.friction = mu;
-      c.contact.gap_cutoff = r.number("gap_cutoff", 0.8);
-      c.contact.normal_smoothing =
-          r.integer("normal_smoothing", c.contact.normal_smoothing, 0, max_normal_smoothing);
-      c.contact.orphan_fraction = r.number("orphan_fraction", c.contact.orphan_fraction);
-      require(r, "orphan_fraction",
-              c.contact.orphan_fraction >= 0.0 && c.contact.orphan_fraction < 0.5,
-              "must be in [0, 0.5) (a fraction of a filled cell's nodal mass)");
-      return;
-    }
-    const auto [first, second] = read_body_pair(r, body_names);
-    for (const ContactPair& q : c.contact.pairs)
-      if (std::minmax(q.a, q.b) == std::minmax(first, second))
-        r.fail("bodies", fmt::format("the pair '{}'-'{}' already has a [[contact]] entry",
-                                     body_names[first], body_names[second]));
-    c.contact.pairs.push_back(ContactPair{first, second, mu});
-  });
-
-  // [[interface]]: cohesive-frictional pairs.
-  for_each_entry(root, "interface", [&](TableReader& r, std::size_t) {
-    InterfaceSpec f;
-    std::tie(f.a, f.b) = read_body_pair(r, body_names);
-    for (const InterfaceSpec& q : c.interfaces)
-      if (std::minmax(q.a, q.b) == std::minmax(f.a, f.b))
-        r.fail("bodies", fmt::format("the pair '{}'-'{}' already has an [[interface]] entry",
-                                     body_names[f.a], body_names[f.b]));
-    auto degradation = [&](const std::string& key, const std::string& unit) {
-      const toml::table* t = r.table(key);
-      if (!t) r.fail_missing(key);
-      TableReader d(*t, r.key_path(key), r.where());
-      Degradation g;
-      g.initial = d.number("initial");
-      require(d, "initial", g.initial >= 0.0, "must be >= 0 " + unit);
-      g.residual = d.number("residual", g.initial);
-      require(d, "residual", g.residual >= 0.0 && g.residual <= g.initial,
-              "must be in [0, initial]");
-      g.slip = d.number("slip", 1.0);
-      require(d, "slip", g.slip > 0.0, "must be > 0 m");
-      d.finish();
-      return g;
-    };
-    f.friction = degradation("friction", "");
-    f.cohesion = degradation("cohesion", "Pa");
-    const std::string curve = r.choice("curve", {"linear", "bilinear", "exponential"}, "linear");
-    f.curve = curve == "bilinear"      ? DegradationCurve::bilinear
-              : curve == "exponential" ? DegradationCurve::exponential
-                                       : DegradationCurve::linear;
-    f.tensile_strength = r.number("tensile_strength", -1.0);
-    if (r.has("tensile_strength"))
-      require(r, "tensile_strength", f.tensile_strength >= 0.0, "must be >= 0 Pa");
-    c.interfaces.push_back(f);
-  });
-
-  for_each_entry(root, "probe", [&](TableReader& r, std::size_t i) {
-    ProbeSpec p;
-    p.name = r.name("name", fmt::format("probe{}", i));
-    for (const ProbeSpec& q : c.probes)
-      if (q.name == p.name) r.fail("name", "two probes have this name");
-    p.body = lookup(r, "body", body_names, "body");
-    p.near = r.vector("near", dim);
-    for (int d = 0; d < dim; ++d)
-      if (p.near[d] < c.grid.origin[d] || p.near[d] > c.grid.origin[d] + c.grid.extent[d])
-        r.fail("near", fmt::format("the point is outside the grid along {}", "xyz"[d]));
-    c.probes.push_back(p);
-  });
-
-  if (const toml::table* init = root.table("initial_state")) {
-    TableReader ri(*init, "initial_state", where);
-    const std::string method = ri.choice("method", {"none", "k0"}, "none");
-    c.initial_state.method = method == "k0" ? InitialState::Method::k0 : InitialState::Method::none;
-    if (ri.has("k0")) {
-      c.initial_state.k0 = ri.number("k0");
-      require(ri, "k0", c.initial_state.k0 > 0.0 && c.initial_state.k0 <= 3.0, "must be in (0, 3]");
-      if (c.initial_state.method != InitialState::Method::k0)
-        ri.fail("k0", "is used only with method = \"k0\"");
-    }
-    c.initial_state.settle_time = ri.number("settle_time", 0.0);
-    require(ri, "settle_time", c.initial_state.settle_time >= 0.0, "must be >= 0 s");
-    c.initial_state.settle_damping = ri.number("settle_damping", 0.2);
-    require(ri, "settle_damping",
-            c.initial_state.settle_damping >= 0.0 && c.initial_state.settle_damping < 1.0,
-            "must be in [0, 1)");
-    c.initial_state.hold_interfaces = ri.boolean("hold_interfaces", true);
-    c.initial_state.settle_cfl = ri.optional_number("settle_cfl");
-    if (c.initial_state.settle_cfl) {
-      require(ri, "settle_cfl",
-              *c.initial_state.settle_cfl > 0.0 && *c.initial_state.settle_cfl <= 1.0,
-              "must be in (0, 1]");
-      if (c.simulation.dt)
-        ri.fail("settle_cfl", "has no effect with a fixed simulation.dt: remove one");
-    }
-    ri.finish();
-  }
-
-  if (const toml::table* res = root.table("results")) {
-    TableReader rr(*res, "results", where);
-    c.results.body = lookup(rr, "body", body_names, "body");
-    c.results.stop_speed = rr.number("stop_speed", 0.5);
-    require(rr, "stop_speed", c.results.stop_speed > 0.0, "must be > 0 m/s");
-    rr.finish();
-  }
-
-  if (const toml::table* out = root.table("output")) {
-    TableReader ro(*out, "output", where);
-    c.output.every = ro.number("every", 0.0);
-    require(ro, "every", c.output.every >= 0.0, "must be >= 0 s");
-    c.output.particles = ro.boolean("particles", true);
-    c.output.contact_nodes = ro.boolean("contact_nodes", false);
-    if (const toml::array* f = ro.array("fields")) {
-      const std::vector<std::string> known = {
-          "velocity",       "stress", "displacement", "mass",      "volume",
-          "plastic_strain", "body",   "material",     "interface", "field"};
-      for (std::size_t i = 0; i < f->size(); ++i) {
-        const auto s = f->get(i)->value<std::string>();
-        if (!s)
-          ro.where().fail(f->get(i)->source(), fmt::format("output.fields[{}]", i),
-                          fmt::format("expected a field name (a string), got {}",
-                                      TableReader::type_name(*f->get(i))));
-        if (std::find(known.begin(), known.end(), *s) == known.end())
-          ro.where().fail(f->get(i)->source(), fmt::format("output.fields[{}]", i),
-                          fmt::format("unknown field '{}'{}", *s, suggest(*s, known)));
-        c.output.fields.push_back(*s);
-      }
-    }
-    ro.finish();
-  }
-  for_each_entry(root, "check", [&](TableReader& r, std::size_t) {
-    CheckSpec k;
-    k.name = r.name("name", "");
-    for (const CheckSpec& q : c.checks)
-      if (q.name == k.name) r.fail("name", "two checks have this name");
-    k.quantity = r.name("quantity", "");
-    k.source = r.name("source", "");
-    if (r.has("known_miss")) k.known_miss = r.name("known_miss", "");
-    k.set = string_list(r, "set");
-    k.time = r.optional_number("time");
-    if (k.time) require(r, "time", *k.time >= 0.0, "must be >= 0 s");
-    k.reference = r.optional_number("reference");
-    k.tolerance = r.optional_number("tolerance");
-    k.abs_tolerance = r.optional_number("abs_tolerance");
-    k.min = r.optional_number("min");
-    k.max = r.optional_number("max");
-    if (k.tolerance) require(r, "tolerance", *k.tolerance > 0.0, "must be > 0 (relative)");
-    if (k.abs_tolerance) require(r, "abs_tolerance", *k.abs_tolerance > 0.0, "must be > 0");
-    if (k.reference.has_value() == (k.min || k.max))
-      r.fail("reference", "give a reference (with tolerance or abs_tolerance) or min/max bounds");
-    if (k.reference && !k.tolerance && !k.abs_tolerance)
-      r.fail("tolerance", "a reference needs tolerance (relative) or abs_tolerance");
-    if (r.has("direction")) r.vector("direction", dim);
-    if (r.has("near")) r.vector("near", dim);
-    c.checks.push_back(k);
-  });
-  if (const toml::table* v = root.table("verify")) {
-    TableReader rv(*v, "verify", where);
-    c.verify.quick = string_list(rv, "quick");
-    c.verify.full = string_list(rv, "full");
-    rv.finish();
-  }
-
-  if (const toml::table* ck = root.table("checkpoint")) {
-    TableReader rc(*ck, "checkpoint", where);
-    c.checkpoint.every = rc.number("every", 0.0);
-    require(rc, "every", c.checkpoint.every >= 0.0, "must be >= 0 s (0: off)");
-    c.checkpoint.wall_minutes = rc.number("wall_minutes", 15.0);
-    require(rc, "wall_minutes", c.checkpoint.wall_minutes >= 0.0, "must be >= 0 min (0: off)");
-    c.checkpoint.keep = rc.integer("keep", 2, 1, 100);
-    rc.finish();
-  }
+  read_materials(root, c);
+  read_bodies(root, c, base_dir);
+  read_boundaries(root, c);
+  read_contact(root, c);
+  read_interfaces(root, c);
+  read_initial_state(root, c);
+  read_results(root, c);
+  read_probes(root, c);
+  read_output(root, c);
+  read_checkpoint(root, c);
+  read_checks(root, c);
+  read_verify(root, c);
   root.finish();
   return c;
 }
