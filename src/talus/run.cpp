@@ -273,70 +273,97 @@ private:
     stepping_ += std::chrono::duration<double>(Clock::now() - t0).count();
   }
 
+  // Settles (if the case does and the run is not past it), releases, then advances to the end;
+  // both stages share one schedule of checkpoints and signals (after_step).
   void loop(RunResult& r) {
-    const double T = c_.initial_state.settle_time, end = c_.simulation.end_time;
-    const double every = c_.output.every > 0 ? c_.output.every : end;
     const CheckpointSettings& ck = c_.checkpoint;
-    std::optional<Progress> progress;
-    progress.emplace(opt_.log, sim_.settling() ? T : end, sim_.steps());
-    auto next_checkpoint = [&] {
-      return ck.every > 0 ? ck.every * (std::floor(sim_.time() / ck.every + 1e-9) + 1.0) : inf;
-    };
-    double checkpoint_time = next_checkpoint();
-    auto checkpoint_wall = Clock::now();
-    for (;;) {
-      if (sim_.settling()) {
-        if (T - sim_.time() <= 1e-12 * T) {
-          progress->update(sim_.time(), sim_.steps(), true);
-          settle_ke_ = kinetic_energy();
-          if (opt_.log)
-            *opt_.log << fmt::format("talus: settled for {} s, kinetic energy {:.4g} J; released\n",
-                                     T, settle_ke_);
-          sim_.release();
-          start_output();
-          write_frame();
-          progress.emplace(opt_.log, end, sim_.steps());
-          checkpoint_time = next_checkpoint();
-          continue;
-        }
-        timed_step(T - sim_.time());
-      } else {
-        if (!writer_) {
-          start_output();
-          write_frame();
-        }
-        if (end - sim_.time() <= 1e-12 * end) break;
-        if (opt_.max_steps && sim_.steps() >= *opt_.max_steps) break;
-        const double next_output = std::min(end, every * static_cast<double>(frame_));
-        timed_step(next_output - sim_.time());
-        monitor_->update(sim_);
-        if (sim_.time() >= next_output - 1e-12 * end) {
-          write_frame();
-          ++frame_;
-        }
-      }
-      progress->update(sim_.time(), sim_.steps());
-      if (sim_.steps() == opt_.inject_signal_step) std::raise(opt_.inject_signal);
-      if (stop_signal) {
-        save_checkpoint();
-        r.status = "interrupted";
-        r.signal = stop_signal;
-        r.message = fmt::format("stopped by signal {} at step {}, time {:.6g} s; checkpoint {}; "
-                                "continue with: talus run --restart {}",
-                                static_cast<int>(stop_signal), sim_.steps(), sim_.time(),
-                                last_checkpoint_, opt_.out_dir);
-        return;
-      }
-      const bool wall_due = ck.wall_minutes > 0 &&
-                            std::chrono::duration<double>(Clock::now() - checkpoint_wall).count() >=
-                                60.0 * ck.wall_minutes;
-      if (sim_.time() >= checkpoint_time - 1e-12 * checkpoint_time || wall_due) {
-        save_checkpoint();
-        checkpoint_time = next_checkpoint();
-        checkpoint_wall = Clock::now();
-      }
+    checkpoint_time_ = next_checkpoint(ck);
+    checkpoint_wall_ = Clock::now();
+    if (sim_.settling()) {
+      if (!settle(r)) return;
+      release();
+      checkpoint_time_ = next_checkpoint(ck);
     }
-    progress->update(sim_.time(), sim_.steps(), true);
+    if (!writer_) {
+      start_output();
+      write_frame();
+    }
+    advance(r);
+  }
+
+  // Damped steps up to initial_state.settle_time. False if a signal stopped the run.
+  bool settle(RunResult& r) {
+    const double T = c_.initial_state.settle_time;
+    Progress progress(opt_.log, T, sim_.steps());
+    while (T - sim_.time() > 1e-12 * T) {
+      timed_step(T - sim_.time());
+      progress.update(sim_.time(), sim_.steps());
+      if (!after_step(r)) return false;
+    }
+    progress.update(sim_.time(), sim_.steps(), true);
+    return true;
+  }
+
+  // The end of settling: time restarts at 0, the run folder starts with its first frame.
+  void release() {
+    settle_ke_ = kinetic_energy();
+    if (opt_.log)
+      *opt_.log << fmt::format("talus: settled for {} s, kinetic energy {:.4g} J; released\n",
+                               c_.initial_state.settle_time, settle_ke_);
+    sim_.release();
+    start_output();
+    write_frame();
+  }
+
+  // Steps to simulation.end_time (or --max-steps), hitting each output time exactly.
+  void advance(RunResult& r) {
+    const double end = c_.simulation.end_time;
+    const double every = c_.output.every > 0 ? c_.output.every : end;
+    Progress progress(opt_.log, end, sim_.steps());
+    while (end - sim_.time() > 1e-12 * end) {
+      if (opt_.max_steps && sim_.steps() >= *opt_.max_steps) break;
+      const double next_output = std::min(end, every * static_cast<double>(frame_));
+      timed_step(next_output - sim_.time());
+      monitor_->update(sim_);
+      if (sim_.time() >= next_output - 1e-12 * end) {
+        write_frame();
+        ++frame_;
+      }
+      progress.update(sim_.time(), sim_.steps());
+      if (!after_step(r)) return;
+    }
+    progress.update(sim_.time(), sim_.steps(), true);
+  }
+
+  // What follows every step, settling or not: an injected signal (the restart tests), a stop
+  // signal (a checkpoint, then stop: false), a checkpoint when its simulated or wall time is due.
+  bool after_step(RunResult& r) {
+    if (sim_.steps() == opt_.inject_signal_step) std::raise(opt_.inject_signal);
+    if (stop_signal) {
+      save_checkpoint();
+      r.status = "interrupted";
+      r.signal = stop_signal;
+      r.message = fmt::format("stopped by signal {} at step {}, time {:.6g} s; checkpoint {}; "
+                              "continue with: talus run --restart {}",
+                              static_cast<int>(stop_signal), sim_.steps(), sim_.time(),
+                              last_checkpoint_, opt_.out_dir);
+      return false;
+    }
+    const CheckpointSettings& ck = c_.checkpoint;
+    const bool wall_due = ck.wall_minutes > 0 &&
+                          std::chrono::duration<double>(Clock::now() - checkpoint_wall_).count() >=
+                              60.0 * ck.wall_minutes;
+    if (sim_.time() >= checkpoint_time_ - 1e-12 * checkpoint_time_ || wall_due) {
+      save_checkpoint();
+      checkpoint_time_ = next_checkpoint(ck);
+      checkpoint_wall_ = Clock::now();
+    }
+    return true;
+  }
+
+  // The next multiple of checkpoint.every after the current time (inf: off).
+  double next_checkpoint(const CheckpointSettings& ck) const {
+    return ck.every > 0 ? ck.every * (std::floor(sim_.time() / ck.every + 1e-9) + 1.0) : inf;
   }
 
   double kinetic_energy() const {
@@ -386,6 +413,8 @@ private:
   double stepping_ = 0.0; // wall seconds inside step(), settling included
   std::int64_t frame_ = 1;
   std::string last_checkpoint_;
+  double checkpoint_time_ = inf;        // the next checkpoint by simulated time
+  Clock::time_point checkpoint_wall_{}; // the last checkpoint (or the start) by wall time
 };
 
 template <int D>
