@@ -10,7 +10,8 @@ cmake --build --preset release
 case_file=${1:-cases/vaiont/three_bodies.toml}
 shift || true
 out=runs/$(basename "$case_file" .toml)
-build/release/talus run "$case_file" --out "$out" "$@"
+# The script owns runs/<case>: a re-run empties it first (talus refuses a non-empty folder).
+build/release/talus run "$case_file" --out "$out" --overwrite "$@"
 /usr/bin/python3 -c "import json; r = json.load(open('$out/summary.json'))['results']; print('results:', json.dumps(r, indent=2))"
 /usr/bin/python3 tools/plot_run.py "$out" --field body
 echo "results in $out (open $out/particles.pvd in ParaView; plots in $out/plots)"

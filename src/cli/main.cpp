@@ -20,6 +20,7 @@
 #include <cstring>
 #include <fmt/format.h>
 #include <iostream>
+#include <limits>
 #include <unistd.h>
 
 namespace {
@@ -105,6 +106,10 @@ int run_and_report(F&& go) {
       fmt::print(stderr, "talus: {}\n", r.message);
       return 128 + r.signal;
     }
+    if (r.status == "stopped") {
+      fmt::print("talus: {}\n", r.message);
+      return 0;
+    }
     if (r.status != "completed") {
       fmt::print(stderr, "error: run {}: {}\n", r.status, r.message);
       return 1;
@@ -119,6 +124,9 @@ int run_and_report(F&& go) {
     return 2;
   } catch (const talus::CheckpointError& e) {
     fmt::print(stderr, "error: restart: {}\n", e.what());
+    return 2;
+  } catch (const talus::RunFolderError& e) {
+    fmt::print(stderr, "error: run folder: {}\n", e.what());
     return 2;
   }
   return 0;
@@ -149,7 +157,15 @@ int main(int argc, char** argv) {
   run->add_option("--threads,-t", threads,
                   "OpenMP threads (default: one per 25,000 particles, at most the cores)")
       ->check(CLI::Range(1, 1024));
-  run->add_option("--max-steps", max_steps, "stop after this many steps");
+  bool overwrite = false;
+  run->add_flag("--overwrite", overwrite,
+                "empty the run folder of an earlier run first (a fresh run refuses a non-empty "
+                "folder)")
+      ->excludes(restart_opt);
+  run->add_option("--max-steps", max_steps,
+                  "stop after this many steps with a checkpoint (status \"stopped\"; continue "
+                  "with --restart)")
+      ->check(CLI::Range(1LL, std::numeric_limits<long long>::max()));
 
   auto* chk = app.add_subcommand("check", "validate a case and estimate its size and run time");
   chk->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
@@ -257,6 +273,7 @@ int main(int argc, char** argv) {
   opt.out_dir = out_dir;
   opt.threads = threads;
   if (max_steps >= 0) opt.max_steps = max_steps;
+  opt.overwrite = overwrite;
   opt.log = &std::cout;
   inject_faults(opt);
   return run_and_report([&] { return talus::run_case(c, opt); });

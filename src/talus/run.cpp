@@ -11,6 +11,8 @@
 #include <csignal>
 #include <filesystem>
 #include <fmt/format.h>
+#include <fstream>
+#include <iterator>
 #include <optional>
 #include <unistd.h>
 
@@ -198,8 +200,8 @@ public:
   Runner(const Case& c, const RunOptions& opt) : c_(c), opt_(opt), sim_(c) {}
 
   RunResult run(LoadArchive* restore, const std::string& restored_from) {
-    const auto wall0 = Clock::now();
-    const int threads = set_threads(opt_.threads, sim_.particles().size());
+    const auto wall0 = wall0_ = Clock::now();
+    const int threads = threads_ = set_threads(opt_.threads, sim_.particles().size());
     StopSignals signals;
     RunResult r;
     r.particles = sim_.particles().size();
@@ -223,6 +225,7 @@ public:
         *opt_.log << "talus: warning: " << w << "\n";
     r.status = "completed";
     try {
+      write_running_summary();
       loop(r);
     } catch (const SimulationError& e) {
       r.status = "failed";
@@ -265,6 +268,23 @@ private:
   void write_frame() {
     writer_->write_frame(sim_);
     sim_.reset_force_means();
+    write_running_summary();
+  }
+
+  // summary.json with status "running": from the first step on, updated at each frame and each
+  // checkpoint, so that a run killed outright still says it started, how far it got and where
+  // its newest checkpoint is. While settling (no frames yet) a temporary writer writes it.
+  void write_running_summary() {
+    const double wall = std::chrono::duration<double>(Clock::now() - wall0_).count();
+    const std::string message =
+        last_checkpoint_.empty() ? std::string() : "newest checkpoint: " + last_checkpoint_;
+    const nlohmann::json results =
+        monitor_ ? monitor_->json(sim_, settle_ke_) : nlohmann::json::object();
+    if (writer_)
+      writer_->write_summary(sim_, "running", wall, stepping_, threads_, message, results);
+    else
+      RunWriter<D>(opt_.out_dir, sim_)
+          .write_summary(sim_, "running", wall, stepping_, threads_, message, results);
   }
 
   void timed_step(double dt_limit) {
@@ -321,7 +341,6 @@ private:
     const double every = c_.output.every > 0 ? c_.output.every : end;
     Progress progress(opt_.log, end, sim_.steps());
     while (end - sim_.time() > 1e-12 * end) {
-      if (opt_.max_steps && sim_.steps() >= *opt_.max_steps) break;
       const double next_output = std::min(end, every * static_cast<double>(frame_));
       timed_step(next_output - sim_.time());
       monitor_->update(sim_);
@@ -349,6 +368,16 @@ private:
                               last_checkpoint_, opt_.out_dir);
       return false;
     }
+    if (opt_.max_steps && sim_.steps() >= *opt_.max_steps &&
+        c_.simulation.end_time - sim_.time() > 1e-12 * c_.simulation.end_time) {
+      save_checkpoint();
+      r.status = "stopped";
+      r.message = fmt::format("stopped after {} steps (--max-steps){} at time {:.6g} s; "
+                              "checkpoint {}; continue with: talus run --restart {}",
+                              sim_.steps(), sim_.settling() ? " while settling" : "", sim_.time(),
+                              last_checkpoint_, opt_.out_dir);
+      return false;
+    }
     const CheckpointSettings& ck = c_.checkpoint;
     const bool wall_due = ck.wall_minutes > 0 &&
                           std::chrono::duration<double>(Clock::now() - checkpoint_wall_).count() >=
@@ -357,6 +386,7 @@ private:
       save_checkpoint();
       checkpoint_time_ = next_checkpoint(ck);
       checkpoint_wall_ = Clock::now();
+      write_running_summary();
     }
     return true;
   }
@@ -375,6 +405,7 @@ private:
   }
 
   void save_checkpoint() {
+    const auto t0 = Clock::now();
     sim_.check_particles(); // a checkpoint is a good state, or none is written
     SaveArchive ar;
     int dim = D;
@@ -390,7 +421,13 @@ private:
     write_checkpoint_file(path, ar.bytes());
     prune_checkpoints(opt_.out_dir, c_.checkpoint.keep);
     last_checkpoint_ = path;
+    if (opt_.log && !progress_tty())
+      *opt_.log << fmt::format("talus: checkpoint {} ({:.1f} MB, {:.2f} s)\n", path,
+                               static_cast<double>(ar.bytes().size()) / 1e6,
+                               std::chrono::duration<double>(Clock::now() - t0).count());
   }
+  // Whether the progress goes to a terminal (its line is redrawn: no checkpoint lines there).
+  static bool progress_tty() { return ::isatty(STDOUT_FILENO); }
 
   void finish(RunResult& r, Clock::time_point wall0, int threads) {
     r.steps = sim_.steps();
@@ -413,6 +450,8 @@ private:
   double stepping_ = 0.0; // wall seconds inside step(), settling included
   std::int64_t frame_ = 1;
   std::string last_checkpoint_;
+  Clock::time_point wall0_{}; // the run's (this process's) start
+  int threads_ = 1;
   double checkpoint_time_ = inf;        // the next checkpoint by simulated time
   Clock::time_point checkpoint_wall_{}; // the last checkpoint (or the start) by wall time
 };
@@ -427,6 +466,7 @@ RunResult run_dim(const Case& c, const RunOptions& opt, LoadArchive* restore = n
 } // namespace
 
 RunResult run_case(const Case& c, const RunOptions& opt) {
+  prepare_run_folder(opt.out_dir, opt.overwrite);
   return c.simulation.dimension == 2 ? run_dim<2>(c, opt) : run_dim<3>(c, opt);
 }
 
@@ -451,6 +491,15 @@ RunResult restart_run(const RunOptions& opt) {
     std::string file, text;
     ar.io(dim), ar.io(file), ar.io(text);
     // Relative polygon files resolve against the original case file, as in the first run.
+    const std::string own_case = opt.out_dir + "/case.toml";
+    if (std::ifstream in(own_case, std::ios::binary); in) {
+      const std::string own((std::istreambuf_iterator<char>(in)), {});
+      if (own != text)
+        throw CheckpointError(fmt::format(
+            "{}: the checkpoint is of another case than {} (a different case, or other --set "
+            "values, ran into this folder): not restarted",
+            path, own_case));
+    }
     const Case c = parse_case_text(text, file, {});
     if (dim != c.simulation.dimension) throw CheckpointError(path + ": dimension mismatch");
     return dim == 2 ? run_dim<2>(c, opt, &ar, path) : run_dim<3>(c, opt, &ar, path);

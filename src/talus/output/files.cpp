@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <filesystem>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -43,6 +44,38 @@ void write_file_atomic(const std::string& path, std::string_view content) {
     ::fsync(dfd);
     ::close(dfd);
   }
+}
+
+void prepare_run_folder(const std::string& dir, bool overwrite) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return;
+  if (!fs::is_directory(dir, ec))
+    throw RunFolderError(fmt::format("{}: exists and is not a folder: give another --out", dir));
+  if (fs::is_empty(dir, ec)) return;
+  const bool has_checkpoints = fs::exists(dir + "/checkpoints", ec);
+  const bool run_folder = has_checkpoints || fs::exists(dir + "/case.toml", ec) ||
+                          fs::exists(dir + "/summary.json", ec);
+  if (!run_folder)
+    throw RunFolderError(fmt::format(
+        "{}: the folder holds files that are not a talus run folder's (no case.toml, "
+        "summary.json or checkpoints/): give another --out; it is not emptied, even with "
+        "--overwrite",
+        dir));
+  if (!overwrite)
+    throw RunFolderError(fmt::format(
+        "{}: the folder holds an earlier run: give another --out, or --overwrite to empty it "
+        "first{}",
+        dir,
+        has_checkpoints ? fmt::format(", or talus run --restart {} to continue that run", dir)
+                        : std::string()));
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    fs::remove_all(entry.path(), ec);
+    if (ec)
+      throw OutputError(fmt::format("{}: cannot empty the run folder: {}: {}", dir,
+                                    entry.path().string(), ec.message()));
+  }
+  if (ec) throw OutputError(fmt::format("{}: cannot list the run folder: {}", dir, ec.message()));
 }
 
 } // namespace talus

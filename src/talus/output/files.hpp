@@ -13,6 +13,18 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+// A run folder that a run must not write into (another run's, or not a run folder at all).
+class RunFolderError : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
+
+// Makes `dir` ready for a fresh run: it may be absent or empty; with `overwrite`, an earlier
+// run's folder (it holds case.toml, summary.json or checkpoints/) is emptied first. Anything else
+// throws RunFolderError naming the folder, so that a run never mixes its files with another's
+// and --overwrite never empties a folder that talus did not make.
+void prepare_run_folder(const std::string& dir, bool overwrite);
+
 // Replaces `path` with `content` atomically. Throws OutputError naming the file and the reason.
 void write_file_atomic(const std::string& path, std::string_view content);
 

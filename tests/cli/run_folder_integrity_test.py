@@ -1,0 +1,114 @@
+#!/usr/bin/python3
+"""Run folders that never mix or lose a run (issue 24):
+- a fresh run refuses a folder that holds an earlier run (exit 2) and, with --overwrite, empties
+  it first: no stale frame of the earlier run is left;
+- a folder that is not a run folder is refused even with --overwrite, and its files are kept;
+- --max-steps stops with status "stopped" and a checkpoint, and --restart continues it to the
+  same bits as a run that never stopped;
+- --restart refuses a checkpoint of another case than the folder's case.toml;
+- summary.json exists with status "running" from the first step on (a run killed outright still
+  says it started);
+- --max-steps must be a positive number of steps.
+
+Usage: run_folder_integrity_test.py TALUS SOURCE_DIR WORK_DIR
+"""
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+talus, source, work = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
+case = source / "cases/examples/block_on_floor.toml"
+short = ["--set", "simulation.end_time=0.1", "--set", "output.every=0.02"]
+failures = []
+
+
+def run(*args):
+    p = subprocess.run([talus, "run", *map(str, args)], capture_output=True, text=True,
+                       timeout=600)
+    return p.returncode, p.stdout + p.stderr
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what)
+    if not ok:
+        failures.append(what)
+
+
+def frames(d):
+    return sorted(p.name for p in d.glob("particles_*.vtu"))
+
+
+shutil.rmtree(work, ignore_errors=True)
+work.mkdir(parents=True)
+
+# A reused folder: refused, then emptied with --overwrite (fewer frames: none left over).
+d = work / "reused"
+code, out = run(case, "--out", d, *short)
+check(code == 0 and len(frames(d)) == 6, f"first run: exit {code}, frames {frames(d)}")
+code, out = run(case, "--out", d, "--set", "simulation.end_time=0.04", "--set", "output.every=0.02")
+check(code == 2 and "holds an earlier run" in out and len(frames(d)) == 6,
+      f"a reused folder is refused (exit {code}): {out.strip()[-200:]}")
+code, out = run(case, "--out", d, "--overwrite", "--set", "simulation.end_time=0.04",
+                "--set", "output.every=0.02")
+check(code == 0 and frames(d) == ["particles_000000.vtu", "particles_000001.vtu",
+                                  "particles_000002.vtu"],
+      f"--overwrite empties it first (exit {code}): {frames(d)}")
+
+# Not a run folder: never emptied.
+d = work / "not_a_run"
+d.mkdir()
+(d / "notes.txt").write_text("mine\n")
+code, out = run(case, "--out", d, "--overwrite", *short)
+check(code == 2 and (d / "notes.txt").exists() and "not a talus run folder" in out,
+      f"a folder of other files is refused even with --overwrite (exit {code})")
+
+# --max-steps: stopped, with a checkpoint; --restart continues it bitwise.
+ref, stopped = work / "ref", work / "stopped"
+code, _ = run(case, "--out", ref, *short)
+check(code == 0, f"reference run: exit {code}")
+code, out = run(case, "--out", stopped, *short, "--max-steps", "40")
+summary = json.loads((stopped / "summary.json").read_text())
+check(code == 0 and summary["status"] == "stopped" and summary["steps"] == 40
+      and list((stopped / "checkpoints").glob("*")) and "--restart" in out,
+      f"--max-steps 40: exit {code}, status {summary['status']}, steps {summary['steps']}")
+code, out = run("--restart", stopped)
+summary = json.loads((stopped / "summary.json").read_text())
+check(code == 0 and summary["status"] == "completed", f"restarted: exit {code}, {out[-200:]}")
+for f in ["energy.csv", "bodies.csv", "contacts.csv"] + frames(ref):
+    check((ref / f).read_bytes() == (stopped / f).read_bytes(), f"{f} identical after the stop")
+
+# A checkpoint of another case: refused.
+other = work / "other"
+code, _ = run(case, "--out", other, *short, "--max-steps", "10")
+text = (other / "case.toml").read_text()
+(other / "case.toml").write_text(text.replace("end_time = 0.1", "end_time = 0.2"))
+code, out = run("--restart", other)
+check(code == 2 and "another case" in out, f"a foreign checkpoint is refused (exit {code}): "
+      f"{out.strip()[-200:]}")
+
+# summary.json from the first step: a run killed outright still says it started.
+killed = work / "killed"
+p = subprocess.Popen([talus, "run", str(case), "--out", str(killed), "--set",
+                      "simulation.end_time=100"], stdout=subprocess.DEVNULL,
+                     stderr=subprocess.DEVNULL)
+deadline = time.time() + 60
+while time.time() < deadline and not (killed / "summary.json").exists():
+    time.sleep(0.05)
+time.sleep(0.5)
+p.send_signal(signal.SIGKILL)
+p.wait()
+s = json.loads((killed / "summary.json").read_text()) if (killed / "summary.json").exists() else {}
+check(s.get("status") == "running", f"killed run's summary.json says running: {s.get('status')}")
+
+# --max-steps takes a positive count.
+for bad in ["0", "-1"]:
+    code, out = run(case, "--out", work / "bad", "--max-steps", bad)
+    check(code != 0 and "max-steps" in out, f"--max-steps {bad} refused (exit {code})")
+
+print(f"{len(failures)} failure(s)")
+sys.exit(1 if failures else 0)
