@@ -379,9 +379,12 @@ private:
       return false;
     }
     const CheckpointSettings& ck = c_.checkpoint;
-    const bool wall_due = ck.wall_minutes > 0 &&
-                          std::chrono::duration<double>(Clock::now() - checkpoint_wall_).count() >=
-                              60.0 * ck.wall_minutes;
+    // By wall time: every wall_minutes, the first after at most first_wall_minutes.
+    const double minutes =
+        checkpoints_written_ == 0 ? std::min(first_wall_minutes, ck.wall_minutes) : ck.wall_minutes;
+    const bool wall_due =
+        ck.wall_minutes > 0 &&
+        std::chrono::duration<double>(Clock::now() - checkpoint_wall_).count() >= 60.0 * minutes;
     if (sim_.time() >= checkpoint_time_ - 1e-12 * checkpoint_time_ || wall_due) {
       save_checkpoint();
       checkpoint_time_ = next_checkpoint(ck);
@@ -421,6 +424,7 @@ private:
     write_checkpoint_file(path, ar.bytes());
     prune_checkpoints(opt_.out_dir, c_.checkpoint.keep);
     last_checkpoint_ = path;
+    ++checkpoints_written_;
     if (opt_.log && !progress_tty())
       *opt_.log << fmt::format("talus: checkpoint {} ({:.1f} MB, {:.2f} s)\n", path,
                                static_cast<double>(ar.bytes().size()) / 1e6,
@@ -452,6 +456,7 @@ private:
   std::string last_checkpoint_;
   Clock::time_point wall0_{}; // the run's (this process's) start
   int threads_ = 1;
+  int checkpoints_written_ = 0;         // by this process
   double checkpoint_time_ = inf;        // the next checkpoint by simulated time
   Clock::time_point checkpoint_wall_{}; // the last checkpoint (or the start) by wall time
 };

@@ -105,6 +105,30 @@ p.wait()
 s = json.loads((killed / "summary.json").read_text()) if (killed / "summary.json").exists() else {}
 check(s.get("status") == "running", f"killed run's summary.json says running: {s.get('status')}")
 
+# kill -9 in the first minute, with the default checkpoint settings: the first wall-clock
+# checkpoint (after 30 s) is there, and the restarted run ends as the one never killed.
+long = ["--set", "simulation.end_time=40", "--set", "output.every=5"]  # ~70 s here
+ref_long, killed = work / "ref_long", work / "killed_long"
+reference = subprocess.Popen([talus, "run", str(case), "--out", str(ref_long), *long],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+p = subprocess.Popen([talus, "run", str(case), "--out", str(killed), *long],
+                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+start = time.time()
+while time.time() - start < 58 and not list((killed / "checkpoints").glob("*.ckpt")):
+    time.sleep(0.2)
+time.sleep(0.5)
+p.send_signal(signal.SIGKILL)
+p.wait()
+killed_at = time.time() - start
+check(killed_at < 60 and list((killed / "checkpoints").glob("*.ckpt")),
+      f"a checkpoint within the first minute (killed after {killed_at:.0f} s)")
+code, out = run("--restart", killed)
+reference.wait()
+check(code == 0 and reference.returncode == 0, f"restarted after kill -9: exit {code}")
+for f in ["energy.csv", "bodies.csv", "contacts.csv"] + frames(ref_long):
+    check((ref_long / f).read_bytes() == (killed / f).read_bytes(),
+          f"{f} identical after kill -9 and restart")
+
 # --max-steps takes a positive count.
 for bad in ["0", "-1"]:
     code, out = run(case, "--out", work / "bad", "--max-steps", bad)

@@ -123,10 +123,12 @@ struct ProbeSpec {
 };
 
 // Checkpoints for restart (output/checkpoint.hpp): every `every` simulated seconds and every
-// `wall_minutes` of wall time (0 turns either off), keeping the newest `keep`.
+// `wall_minutes` of wall time (the first after at most first_wall_minutes; 0 turns either off),
+// keeping the newest `keep`.
+constexpr double first_wall_minutes = 0.5; // a run killed in its first minute can restart
 struct CheckpointSettings {
   double every = 0.0;
-  double wall_minutes = 15.0;
+  double wall_minutes = 3.0;
   int keep = 2;
 };
 

@@ -568,7 +568,7 @@ void read_checkpoint(TableReader& root, Case& c) {
     TableReader rc(*ck, "checkpoint", root.where());
     c.checkpoint.every = rc.number("every", 0.0);
     require(rc, "every", c.checkpoint.every >= 0.0, "must be >= 0 s (0: off)");
-    c.checkpoint.wall_minutes = rc.number("wall_minutes", 15.0);
+    c.checkpoint.wall_minutes = rc.number("wall_minutes", c.checkpoint.wall_minutes);
     require(rc, "wall_minutes", c.checkpoint.wall_minutes >= 0.0, "must be >= 0 min (0: off)");
     c.checkpoint.keep = rc.integer("keep", 2, 1, 100);
     rc.finish();
