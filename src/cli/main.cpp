@@ -194,7 +194,15 @@ int main(int argc, char** argv) {
   verify->add_option("--threads", threads, "OpenMP threads per run");
   verify->add_flag("--update-docs", update_docs, "write the table into docs/verification.md");
 
-  CLI11_PARSE(app, argc, argv);
+  // Command-line errors exit with status 2, as case-file errors do (help and version: 0).
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
   if (verify->parsed()) {
     char self[4096];
     const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);

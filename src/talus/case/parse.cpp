@@ -6,6 +6,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
@@ -288,11 +289,26 @@ void apply_override(toml::table& doc, const std::string& spec, const std::string
   }
   auto* t = node->as_table();
   if (!t) throw CaseError(fmt::format("{}: --set {}: '{}' is not a table", file, path, walked));
+  // A key the document does not have at the top level may be one of a section's: say which.
+  if (keys.size() == 1 && !t->get(keys[0]))
+    for (const auto& [section, node] : doc)
+      if (const auto* sub = node.as_table(); sub && sub->get(keys[0]))
+        throw CaseError(fmt::format("{}: --set {}: no top-level key '{}' (did you mean {}.{}?)",
+                                    file, path, keys[0], section.str(), keys[0]));
   toml::table parsed;
   try {
     parsed = toml::parse("v = " + text);
-  } catch (const toml::parse_error&) {
-    parsed.insert_or_assign("v", text); // a bare word is a string
+  } catch (const toml::parse_error& e) {
+    // A bare word (letters, digits, '_' and '-') is a string; anything else must be TOML.
+    const bool bare = !text.empty() && std::all_of(text.begin(), text.end(), [](char ch) {
+      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
+    });
+    if (!bare)
+      throw CaseError(fmt::format("{}: --set {}: the value '{}' does not parse as TOML ({}): "
+                                  "write a number, true/false, a quoted string or an array "
+                                  "[...]",
+                                  file, path, text, e.description()));
+    parsed.insert_or_assign("v", text);
   }
   t->insert_or_assign(keys.back(), *parsed.get("v"));
 }
@@ -710,6 +726,12 @@ Case parse_case_text(const std::string& text, const std::string& path,
 }
 
 Case parse_case_file(const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw CaseError(fmt::format("{}: {}", path,
+                                std::filesystem::exists(path, ec)
+                                    ? "not a regular file (a case file is a TOML text file)"
+                                    : "no such file"));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CaseError(fmt::format("{}: cannot open the case file", path));
   std::stringstream ss;

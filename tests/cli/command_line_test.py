@@ -1,0 +1,42 @@
+#!/usr/bin/python3
+"""The command line (issue 24): argument errors exit with status 2 and say what is wrong, a case
+path that is not a regular file is refused at once, a --set value that is not TOML is said to be
+so, and a top-level --set key that belongs to a section is pointed to it.
+
+Usage: command_line_test.py TALUS SOURCE_DIR WORK_DIR
+"""
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+talus, source, work = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
+case = str(source / "cases/examples/block_on_floor.toml")
+failures = []
+shutil.rmtree(work, ignore_errors=True)
+work.mkdir(parents=True)
+
+
+def expect(args, code, text):
+    p = subprocess.run([talus, *args], capture_output=True, text=True, timeout=30)
+    out = p.stdout + p.stderr
+    ok = p.returncode == code and text in out
+    print(("ok   " if ok else "FAIL ") + f"talus {' '.join(args)}: exit {p.returncode}: "
+          f"{out.strip().splitlines()[-1] if out.strip() else ''}")
+    if not ok:
+        failures.append(args)
+
+
+expect([], 2, "subcommand")
+expect(["run", case, "--no-such-option"], 2, "--no-such-option")
+expect(["run", case, "--threads", "0"], 2, "--threads")
+expect(["run", case, "--threads", "10000"], 2, "--threads")
+expect(["--help"], 0, "Usage")
+expect(["check", "/dev/zero"], 2, "not a regular file")
+expect(["check", case, "--set", "simulation.gravity=[0,"], 2, "does not parse as TOML")
+expect(["check", case, "--set", "body.block.velocity=[1e999,0]"], 2, "does not parse as TOML")
+expect(["check", case, "--set", "end_time=1"], 2, "did you mean simulation.end_time?")
+expect(["check", case, "--set", "simulation.scheme=usf"], 0, "particles")  # a bare word: string
+
+print(f"{len(failures)} failure(s)")
+sys.exit(1 if failures else 0)
