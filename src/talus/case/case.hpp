@@ -152,6 +152,8 @@ struct OutputSettings {
   std::vector<std::string> fields; // extra VTU fields; empty: all
   bool contact_nodes = false;      // write contact_nodes_NNNNNN.vtu: the last step's contact
                                    // force at every node where a body was corrected
+  bool float64_fields = false;     // precision = "float64" (default "float32")
+  bool float32_positions = false;  // position_precision = "float32" (default "float64")
 };
 
 // How the stress starts. "none": stress-free. "k0": the overburden of each grid column,

@@ -558,6 +558,10 @@ void read_output(TableReader& root, Case& c) {
     require(ro, "every", c.output.every >= 0.0, "must be >= 0 s");
     c.output.particles = ro.boolean("particles", true);
     c.output.contact_nodes = ro.boolean("contact_nodes", false);
+    c.output.float64_fields =
+        ro.choice("precision", {"float32", "float64"}, "float32") == "float64";
+    c.output.float32_positions =
+        ro.choice("position_precision", {"float64", "float32"}, "float64") == "float32";
     if (const toml::array* f = ro.array("fields")) {
       const std::vector<std::string> known = {
           "velocity",       "stress", "displacement", "mass",      "volume",

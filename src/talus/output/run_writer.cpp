@@ -127,7 +127,10 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
     std::vector<int> mats;
     for (const BodySpec& b : c.bodies)
       mats.push_back(b.material);
-    write_file_atomic(dir_ + "/" + name, particles_to_vtu<D>(P, mats, VtuFields{c.output.fields}));
+    write_file_atomic(dir_ + "/" + name,
+                      particles_to_vtu<D>(P, mats,
+                                          VtuFields{c.output.fields, c.output.float64_fields,
+                                                    c.output.float32_positions}));
     frames_.emplace_back(t, name);
   }
   if (c.output.contact_nodes) {

@@ -1,5 +1,6 @@
-// ParaView output: particles as VTK XML UnstructuredGrid (.vtu, binary base64 data) and the
-// time series that lists them (.pvd). The writer reads the state; the solver knows no format.
+// ParaView output: particles as VTK XML UnstructuredGrid (.vtu: appended raw binary arrays,
+// zlib-compressed as VTK's own compressor writes them) and the time series that lists them
+// (.pvd). The writer reads the state; the solver knows no format.
 #pragma once
 
 #include "talus/particles.hpp"
@@ -14,6 +15,8 @@ namespace talus {
 // The particle fields a frame carries (positions and body id always).
 struct VtuFields {
   std::vector<std::string> names; // empty: all
+  bool float64_fields = false;    // output.precision = "float64": fields in double precision
+  bool float32_positions = false; // output.position_precision = "float32"
   bool wants(const std::string& f) const;
 };
 
@@ -33,7 +36,5 @@ std::string vertices_to_vtu(const std::vector<double>& xyz, const std::vector<Vt
 
 // A .pvd collection of (time, file name) frames.
 std::string pvd_collection(const std::vector<std::pair<double, std::string>>& frames);
-
-std::string base64(const void* data, std::size_t bytes);
 
 } // namespace talus
