@@ -129,6 +129,22 @@ for f in ["energy.csv", "bodies.csv", "contacts.csv"] + frames(ref_long):
     check((ref_long / f).read_bytes() == (killed / f).read_bytes(),
           f"{f} identical after kill -9 and restart")
 
+# Names in the CSVs are quoted as RFC 4180 requires: a body named "a,b" and a probe named
+# 'say "hi"' keep every row at the header's width.
+import csv
+quoted = work / "quoted.toml"
+shutil.copy(case.parent / "wedge.csv", work / "wedge.csv")  # the case's polygon, beside it
+text = case.read_text().replace('name = "block"', 'name = "a,b"').replace('body = "block"',
+                                                                           'body = "a,b"')
+quoted.write_text(text.replace('name = "block_top"', "name = 'say \"hi\"'"))
+code, out = run(quoted, "--out", work / "quoted", *short)
+for table in ["bodies.csv", "probes.csv"]:
+    rows = list(csv.reader(open(work / "quoted" / table)))
+    widths = {len(r) for r in rows}
+    names = {r[1] for r in rows[1:]}
+    check(code == 0 and len(widths) == 1 and ("a,b" in names or 'say "hi"' in names),
+          f"{table}: rows of one width {widths}, names {sorted(names)[:3]}")
+
 # --max-steps takes a positive count.
 for bad in ["0", "-1"]:
     code, out = run(case, "--out", work / "bad", "--max-steps", bad)

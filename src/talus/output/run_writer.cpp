@@ -11,6 +11,16 @@ namespace talus {
 
 namespace {
 
+// A text cell as RFC 4180 writes it: quoted (with quotes doubled) if it holds a comma, a quote
+// or a line break, as is otherwise.
+std::string csv_text(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (const char ch : s)
+    q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
 template <int D>
 std::string components(const char* prefix, const char* suffix = "") {
   std::string s;
@@ -97,7 +107,7 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
     bodies_ +=
         fmt::format("{:.10g},{},{:.10g}{}{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
                     "{:.10g},{}\n",
-                    t, c.bodies[b].name, mass, join<D>(mx / mass), join<D>(mv / mass),
+                    t, csv_text(c.bodies[b].name), mass, join<D>(mx / mass), join<D>(mv / mass),
                     speed_sum / mass, max_speed, ke, sim.gravity_work(b), sim.contact_work(b),
                     sim.internal_work(b), sim.strain_energy(b), orphans);
   }
@@ -107,20 +117,22 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
   for (int a = 0; a < B; ++a)
     for (int b = 0; b < B; ++b)
       if (a != b && !sim.mean_contact_force(a, b).isZero())
-        contacts_ += fmt::format("{:.10g},{},{}{}\n", t, c.bodies[a].name, c.bodies[b].name,
-                                 join<D>(sim.mean_contact_force(a, b)));
+        contacts_ += fmt::format("{:.10g},{},{}{}\n", t, csv_text(c.bodies[a].name),
+                                 csv_text(c.bodies[b].name), join<D>(sim.mean_contact_force(a, b)));
   for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
     const InterfaceForce F = sim.mean_interface_force(f);
-    interfaces_ +=
-        fmt::format("{:.10g},{}-{},{:.10g},{:.10g},{:.10g}\n", t, c.bodies[c.interfaces[f].a].name,
-                    c.bodies[c.interfaces[f].b].name, F.cohesive, F.frictional, F.normal);
+    interfaces_ += fmt::format(
+        "{:.10g},{},{:.10g},{:.10g},{:.10g}\n", t,
+        csv_text(c.bodies[c.interfaces[f].a].name + "-" + c.bodies[c.interfaces[f].b].name),
+        F.cohesive, F.frictional, F.normal);
   }
   for (std::size_t k = 0; k < probe_ids_.size(); ++k) {
     std::size_t p = 0;
     while (P.id[p] != probe_ids_[k])
       ++p;
-    probes_ += fmt::format("{:.10g},{}{}{},{:.10g},{:.10g}\n", t, c.probes[k].name, join<D>(P.x[p]),
-                           join<D>(P.v[p]), P.v[p].norm(), (P.x[p] - P.x0[p]).norm());
+    probes_ +=
+        fmt::format("{:.10g},{}{}{},{:.10g},{:.10g}\n", t, csv_text(c.probes[k].name),
+                    join<D>(P.x[p]), join<D>(P.v[p]), P.v[p].norm(), (P.x[p] - P.x0[p]).norm());
   }
   if (c.output.particles) {
     const std::string name = fmt::format("particles_{:06d}.vtu", frames_.size());
