@@ -1,6 +1,7 @@
 #include "bench.hpp"
 
 #include "talus/case/parse.hpp"
+#include "talus/memory_usage.hpp"
 #include "talus/output/files.hpp"
 #include "talus/run.hpp"
 #include "talus/solver.hpp"
@@ -8,13 +9,7 @@
 
 #include <chrono>
 #include <fmt/format.h>
-#include <fstream>
-#include <limits>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 #include <nlohmann/json.hpp>
-#include <sys/resource.h>
 
 namespace talus {
 
@@ -25,38 +20,6 @@ struct Problem {
   std::vector<std::string> overrides;
   int steps;
 };
-
-// The process's resident set now and its peak (Linux /proc/self/status, bytes; 0 if unreadable).
-struct Rss {
-  double now = 0.0, peak = 0.0;
-};
-Rss read_rss() {
-  Rss r;
-  std::ifstream in("/proc/self/status");
-  std::string key;
-  double kb;
-  while (in >> key) {
-    if (key == "VmRSS:" && in >> kb) r.now = kb * 1024.0;
-    if (key == "VmHWM:" && in >> kb) r.peak = kb * 1024.0;
-    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-  }
-  if (r.peak == 0.0) { // no /proc: the lifetime peak
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    r.peak = static_cast<double>(u.ru_maxrss) * 1024.0;
-  }
-  return r;
-}
-
-// Restarts the peak at the current resident set (Linux: "5" to clear_refs), so that each
-// problem's peak is its own. Without it the peak is the process's so far (an over-estimate).
-// The heap freed by the previous problem goes back to the system first (glibc's malloc_trim).
-void reset_peak_rss() {
-#ifdef __GLIBC__
-  malloc_trim(0);
-#endif
-  std::ofstream("/proc/self/clear_refs") << "5";
-}
 
 } // namespace
 

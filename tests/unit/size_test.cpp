@@ -1,41 +1,14 @@
 #include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
 #include "talus/case/size.hpp"
+#include "talus/memory_usage.hpp"
 #include "talus/solver.hpp"
 
-#include <fstream>
 #include <gtest/gtest.h>
-#include <limits>
 #include <string>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 
 namespace talus {
 namespace {
-
-// The process's resident set now and its peak since the last reset_peak() (Linux; 0 if not).
-struct Rss {
-  double now = 0.0, peak = 0.0;
-};
-Rss read_rss() {
-  Rss r;
-  std::ifstream in("/proc/self/status");
-  std::string key;
-  double kb;
-  while (in >> key) {
-    if (key == "VmRSS:" && in >> kb) r.now = kb * 1024.0;
-    if (key == "VmHWM:" && in >> kb) r.peak = kb * 1024.0;
-    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-  }
-  return r;
-}
-void reset_peak() {
-#ifdef __GLIBC__
-  malloc_trim(0);
-#endif
-  std::ofstream("/proc/self/clear_refs") << "5";
-}
 
 // The estimate `talus check` prints and the parser refuses by is within 25 % of the rise of the
 // peak resident set over building the simulation and 20 steps.
@@ -49,7 +22,7 @@ void expect_estimate_near_peak(const std::string& file, const std::vector<std::s
   for (std::size_t b = 0; b < c.bodies.size(); ++b)
     counts.push_back(count_particles(c, b));
   const double estimate = estimate_memory(c, counts);
-  reset_peak();
+  reset_peak_rss();
   const Rss before = read_rss();
   if (before.peak == 0.0) GTEST_SKIP() << "no /proc/self/status";
   double rise = 0.0;

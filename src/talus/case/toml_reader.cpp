@@ -1,5 +1,8 @@
 #include "talus/case/toml_reader.hpp"
 
+#include <cctype>
+#include <sstream>
+
 namespace talus {
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
@@ -28,6 +31,61 @@ std::string suggest(const std::string& word, const std::vector<std::string>& cho
     if (d < best_d) best_d = d, best = c;
   }
   return best.empty() ? std::string{} : fmt::format(" (did you mean '{}'?)", best);
+}
+
+void apply_override(toml::table& doc, const std::string& spec, const std::string& file) {
+  const auto eq = spec.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw CaseError(fmt::format("{}: --set '{}': expected key.path=value", file, spec));
+  const std::string path = spec.substr(0, eq);
+  const std::string text = spec.substr(eq + 1);
+  std::vector<std::string> keys;
+  std::stringstream ss(path);
+  for (std::string k; std::getline(ss, k, '.');)
+    keys.push_back(k);
+  toml::node* node = &doc;
+  std::string walked;
+  for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
+    walked += (walked.empty() ? "" : ".") + keys[i];
+    toml::node* next = nullptr;
+    if (auto* t = node->as_table()) {
+      next = t->get(keys[i]);
+      if (!next) next = &t->insert_or_assign(keys[i], toml::table{}).first->second;
+    } else if (auto* a = node->as_array()) {
+      for (std::size_t j = 0; j < a->size() && !next; ++j) {
+        auto* e = a->get(j)->as_table();
+        if (std::to_string(j) == keys[i] ||
+            (e && e->get("name") && e->get("name")->value<std::string>() == keys[i]))
+          next = a->get(j);
+      }
+    }
+    if (!next) throw CaseError(fmt::format("{}: --set {}: no entry '{}'", file, path, walked));
+    node = next;
+  }
+  auto* t = node->as_table();
+  if (!t) throw CaseError(fmt::format("{}: --set {}: '{}' is not a table", file, path, walked));
+  // A key the document does not have at the top level may be one of a section's: say which.
+  if (keys.size() == 1 && !t->get(keys[0]))
+    for (const auto& [section, node] : doc)
+      if (const auto* sub = node.as_table(); sub && sub->get(keys[0]))
+        throw CaseError(fmt::format("{}: --set {}: no top-level key '{}' (did you mean {}.{}?)",
+                                    file, path, keys[0], section.str(), keys[0]));
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + text);
+  } catch (const toml::parse_error& e) {
+    // A bare word (letters, digits, '_' and '-') is a string; anything else must be TOML.
+    const bool bare = !text.empty() && std::all_of(text.begin(), text.end(), [](char ch) {
+      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
+    });
+    if (!bare)
+      throw CaseError(fmt::format("{}: --set {}: the value '{}' does not parse as TOML ({}): "
+                                  "write a number, true/false, a quoted string or an array "
+                                  "[...]",
+                                  file, path, text, e.description()));
+    parsed.insert_or_assign("v", text);
+  }
+  t->insert_or_assign(keys.back(), *parsed.get("v"));
 }
 
 } // namespace case_reading

@@ -263,4 +263,8 @@ inline std::vector<std::string> string_list(TableReader& r, const std::string& k
   return out;
 }
 
+// Applies "a.b.c=value" (--set) to the document: segments index arrays by number or by an
+// entry's name; the value is TOML, or a bare word taken as a string. Throws CaseError.
+void apply_override(toml::table& doc, const std::string& spec, const std::string& file);
+
 } // namespace talus::case_reading

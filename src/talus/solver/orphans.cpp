@@ -7,17 +7,17 @@
 
 namespace talus {
 
-// A deformable
-// body's particle cut off from its body inside another one cannot be resolved as a surface of
-// its own: alone in its field, its stress acts on nodes that carry only its mass while contact
-// with the body around it keeps squeezing it. So a particle whose own-body neighbours put less
-// than orphan_fraction of a filled cell's mass (rho_0 h^D) on its nodes, while another
-// deformable body puts at least a quarter of it there and more than its own body, maps to that
-// body's field from the next step on: it moves with the body around it (one velocity field,
-// as in single-field MPM) and keeps its own material, stress and body. It returns to its own
-// field when its own body's neighbours put twice the fraction there (hysteresis). Decided at
-// the end of every orphan_interval-th step from that step's nodal masses and start-of-step
-// weights, for the steps that follow; deterministic.
+// Reads the fields' masses and the shape-weight cache; writes each particle's field. A deformable
+// body's particle cut off from its body inside another one cannot be resolved as a surface of its
+// own: alone in its field, its stress acts on nodes that carry only its mass while contact with
+// the body around it keeps squeezing it. So a particle whose own-body neighbours put less than
+// orphan_fraction of a filled cell's mass (rho_0 h^D) on its nodes, while another deformable body
+// puts at least a quarter of it there and more than its own body, maps to that body's field from
+// the next step on: it moves with the body around it (one velocity field, as in single-field
+// MPM) and keeps its own material, stress and body. It returns to its own field when its own
+// body's neighbours put twice the fraction there (hysteresis). Decided at the end of every
+// orphan_interval-th step from that step's nodal masses and start-of-step weights, for the steps
+// that follow; deterministic.
 template <int D>
 void Simulation<D>::update_orphans() {
   const double fraction = setup_.orphan_fraction;

@@ -39,6 +39,27 @@ void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order, std::ve
   }
 }
 
+// G2P for one particle, eq. 22-23: a rigid body's particle takes the body's velocity; any other
+// the FLIP/PIC blend of its field's velocity change, v_p <- flip (v_p + v^{n+1} - v^n) +
+// (1 - flip) v^{n+1} (interpolated), and moves with (v^n + v^{n+1}) / 2.
+template <int D>
+[[gnu::always_inline]] inline void
+move_particle(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const BodyField<D>& N,
+              const ShapeWeights<D>& sw, double flip, double dt) {
+  if (body.rigid) {
+    P.v[p] = body.rigid_velocity;
+    P.x[p] += dt * body.rigid_velocity;
+    return;
+  }
+  Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
+  for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+    v_old += N_I * N.v[I];
+    v_new += N_I * N.v_new[I];
+  });
+  P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
+  P.x[p] += 0.5 * dt * (v_old + v_new);
+}
+
 } // namespace
 
 // Reads the positions; writes the particle order (every array permuted, by cell within each
@@ -62,6 +83,8 @@ void Simulation<D>::sort_particles_by_cell() {
     index_of_id_[P.id[p]] = static_cast<std::uint32_t>(p);
 }
 
+// Reads the positions; writes each particle's slab bin (slabs of slab_width_ cells along x, by
+// body) and the bins' index, in particle order; a held field's particles get no bin.
 template <int D>
 void Simulation<D>::bin_particles_by_slab() {
   const auto& P = particles_;
@@ -108,6 +131,7 @@ void Simulation<D>::scatter(F&& f) {
   }
 }
 
+// Reads the positions and the particles' fields; writes each body's field box and clears it.
 // Each body's field covers the nodes its particles and the orphans it hosts reach (GIMP: one
 // cell beyond the particle's cell on each side), refitted and cleared every step.
 template <int D>
@@ -153,8 +177,10 @@ void Simulation<D>::fit_body_fields() {
   }
 }
 
-// P2G, eq. 14-18 and 30: mass, momentum, mass gradient and mass-weighted position, and
-// (optionally) internal and external force, each body into its own field. The mass gradient and
+// P2G, eq. 14-18, 30 and 37. Reads the particles; writes the shape-weight cache and each field's
+// mass, momentum, mass gradient and mass-weighted position (near other bodies), bond capacities,
+// and with `with_forces` the internal and external force. The mass gradient and position serve
+// contact only; a single body skips them.
 template <int D>
 void Simulation<D>::map_particles_to_nodes(bool with_forces) {
   const bool contact = fields_.empty() || fields_[0].needs.contact;
@@ -236,6 +262,8 @@ void Simulation<D>::scatter_particles() {
   });
 }
 
+// USF's force scatter, eq. 17-18. Reads the particles' stress, volume and mass and the
+// shape-weight cache; writes each field's force.
 template <int D>
 void Simulation<D>::map_forces_to_nodes() {
   auto& P = particles_;
@@ -277,20 +305,7 @@ void Simulation<D>::update_particles(double dt) {
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
-      if (body.rigid) {
-        P.v[p] = body.rigid_velocity;
-        P.x[p] += dt * body.rigid_velocity;
-      } else {
-        const ShapeWeights<D>& sw = shape_[p];
-        const BodyField<D>& N = fields_[P.field[p]];
-        Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
-        for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
-          v_old += N_I * N.v[I];
-          v_new += N_I * N.v_new[I];
-        });
-        P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
-        P.x[p] += 0.5 * dt * (v_old + v_new);
-      }
+      move_particle(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
       if (!motion_ok(p, lo, hi)) detail::record_bad(gone, static_cast<std::size_t>(p));
     }
   }
@@ -313,19 +328,7 @@ void Simulation<D>::update_particles_and_remap(double dt) {
   scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[P.field[p]];
     const ShapeWeights<D>& sw = shape_[p];
-    const BodySetup<D>& body = setup_.bodies[b];
-    if (body.rigid) {
-      P.v[p] = body.rigid_velocity;
-      P.x[p] += dt * body.rigid_velocity;
-    } else {
-      Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
-      for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
-        v_old += N_I * N.v[I];
-        v_new += N_I * N.v_new[I];
-      });
-      P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
-      P.x[p] += 0.5 * dt * (v_old + v_new);
-    }
+    move_particle(P, p, setup_.bodies[b], N, sw, flip, dt);
     if (!motion_ok(p, lo, hi)) detail::record_bad(gone, p);
     const Vec<D> mv_p = P.m[p] * P.v[p];
     for_each_node(N.box, sw,
