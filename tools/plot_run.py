@@ -7,6 +7,8 @@ snapshots coloured by body or by a field. Writes PNGs into RUN_DIR/plots/.
 import argparse
 import csv
 import os
+import sys
+import tomllib
 import xml.etree.ElementTree as ET
 from collections import defaultdict
 
@@ -64,13 +66,33 @@ def plot_time_series(run, out):
         save(fig, os.path.join(out, "probes_speed.png"))
 
 
+STRESS = ["xx", "yy", "zz", "xy", "yz", "xz"]
+
+
+def available_fields(mesh):
+    """What --field can name for this frame: body, speed, stress components, the stored arrays."""
+    names = ["body"] + (["speed"] if "velocity" in mesh.point_data else [])
+    if "stress" in mesh.point_data:
+        names += [f"stress_{c}" for c in STRESS]
+    return names + [n for n in mesh.point_data if n not in names]
+
+
+def body_names(run):
+    """The bodies' names in body order, from the run folder's case.toml."""
+    try:
+        with open(os.path.join(run, "case.toml"), "rb") as f:
+            return [b["name"] for b in tomllib.load(f).get("body", [])]
+    except (OSError, tomllib.TOMLDecodeError, KeyError):
+        return []
+
+
 def field_values(mesh, field):
     """A scalar per particle: body, speed, a stress component (stress_xx...), or a stored field."""
     pd = mesh.point_data
     if field == "speed":
         return np.linalg.norm(pd["velocity"], axis=1)
     if field.startswith("stress_"):
-        comp = ["xx", "yy", "zz", "xy", "yz", "xz"].index(field[7:])
+        comp = STRESS.index(field[7:])
         return pd["stress"][:, comp]
     values = pd[field]
     return values.ravel() if values.ndim == 1 or values.shape[1] == 1 else np.linalg.norm(values, axis=1)
@@ -89,18 +111,34 @@ def plot_snapshots(run, out, field, count, log=False):
         picks = [len(frames) - 1]
     else:
         picks = sorted(set(np.linspace(0, len(frames) - 1, min(count, len(frames))).round().astype(int)))
+    names = body_names(run)
     for i in picks:
         f = frames[i]
         mesh = meshio.read(os.path.join(run, f.get("file")))
+        if field not in available_fields(mesh):
+            print(f"error: no field '{field}' in {f.get('file')}; the fields are: "
+                  + ", ".join(available_fields(mesh)), file=sys.stderr)
+            sys.exit(2)
         fig, ax = plt.subplots(figsize=(8, 5))
         values = field_values(mesh, field)
-        if log:
-            values = np.log10(np.maximum(values, 1e-6))
         size = max(0.2, 2e4 / len(values))
-        sc = ax.scatter(mesh.points[:, 0], mesh.points[:, 1], c=values, s=size, lw=0,
-                        cmap="tab10" if field == "body" else "viridis")
-        fig.colorbar(sc, ax=ax, label=f"log10 {field}" if log else field)
+        if field == "body":  # categories: one colour and a legend entry per body
+            cmap = plt.get_cmap("tab10")
+            for b in np.unique(values).astype(int):
+                at = values == b
+                label = names[b] if b < len(names) else f"body {b}"
+                ax.scatter(mesh.points[at, 0], mesh.points[at, 1], s=size, lw=0,
+                           color=cmap(b % 10), label=label)
+            ax.legend(markerscale=max(1.0, 6.0 / size ** 0.5), loc="best")
+        else:
+            if log:
+                values = np.log10(np.maximum(values, 1e-6))
+            sc = ax.scatter(mesh.points[:, 0], mesh.points[:, 1], c=values, s=size, lw=0,
+                            cmap="viridis")
+            fig.colorbar(sc, ax=ax, label=f"log10 {field}" if log else field)
         ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
         ax.set_title(f"t = {float(f.get('timestep')):.3g} s")
         save(fig, os.path.join(out, f"snapshot_{field}_{i:04d}.png"))
 

@@ -95,4 +95,14 @@ velocity.Update()
 assert velocity.GetOutput().GetPointData().GetArray("velocity").GetDataTypeAsString() == "float"
 assert velocity.GetOutput().GetPoints().GetData().GetDataTypeAsString() == "double"
 
+# The plot tool: a misspelt field lists the ones it can plot (exit 2); the body snapshot has a
+# legend of the bodies' names and axis labels (it is written).
+plot = os.path.join(source, "tools/plot_run.py")
+p = subprocess.run(["/usr/bin/python3", plot, out, "--field", "stres_yy"], capture_output=True,
+                   text=True)
+assert p.returncode == 2 and "stress_yy" in p.stderr and "Traceback" not in p.stderr, p.stderr
+p = subprocess.run(["/usr/bin/python3", plot, out, "--field", "body", "--frames", "1"],
+                   capture_output=True, text=True)
+assert p.returncode == 0 and os.path.exists(os.path.join(out, "plots", "snapshot_body_0002.png")), p.stderr
+
 print(f"run folder ok: {n} particles, {len(frames)} frames read by meshio {meshio.__version__}")
