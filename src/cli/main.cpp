@@ -63,8 +63,12 @@ int check(const talus::Case& c) {
           ? dt
           : std::min(c.simulation.dt_max, c.initial_state.settle_cfl.value_or(c.simulation.cfl) *
                                               c.grid.cell_size / max_wave);
-  const double steps =
-      std::ceil(c.simulation.end_time / dt) + std::ceil(c.initial_state.settle_time / settle_dt);
+  // Output times: the step is shortened to land on each, so there are at least as many steps.
+  const double every = c.output.every > 0 ? c.output.every : c.simulation.end_time;
+  const double outputs = std::ceil(c.simulation.end_time / every - 1e-9);
+  const double frames = c.output.particles ? outputs + 1.0 : 0.0;
+  const double steps = std::max(std::ceil(c.simulation.end_time / dt), outputs) +
+                       std::ceil(c.initial_state.settle_time / settle_dt);
   const double memory = talus::estimate_memory(c, counts);
   constexpr double assumed_rate = 5e6; // particle-updates/s on 2 threads (docs/performance.md)
   fmt::print("  {} particles, {:.0f} grid nodes ({}D, cell {} m)\n", total, nodes, dim,
@@ -78,6 +82,24 @@ int check(const talus::Case& c) {
              "s at {:.0e} particle-updates/s\n",
              memory / 1e6, talus::machine_memory() / 1e9, total * steps / assumed_rate,
              assumed_rate);
+  // The frames and their size before compression (an upper bound: zlib shrinks the floats by a
+  // third to a half and the integer arrays to almost nothing; docs/case-file.md).
+  const double frame_bytes = static_cast<double>(total) * talus::frame_bytes_per_particle(c);
+  const double output = frames * frame_bytes;
+  fmt::print("  output about {:.0f} frames, at most about {:.3g} GB before compression "
+             "({:.0f} bytes per particle per frame)\n",
+             frames, output / 1e9, talus::frame_bytes_per_particle(c));
+  std::error_code ec;
+  const auto space = std::filesystem::space(".", ec);
+  if (frames > 10000)
+    fmt::print(stderr,
+               "warning: output.every = {:.3g} s writes about {:.0f} frames: more than 10,000\n",
+               every, frames);
+  if (!ec && output > static_cast<double>(space.available))
+    fmt::print(stderr,
+               "warning: the output (about {:.3g} GB before compression) may not fit in the "
+               "{:.3g} GB free here: a larger output.every or fewer output.fields\n",
+               output / 1e9, static_cast<double>(space.available) / 1e9);
   if (c.simulation.dt && *c.simulation.dt > cfl_dt)
     fmt::print(stderr,
                "warning: simulation.dt = {:.3g} s is {:.3g} times the stable (CFL {}) step "

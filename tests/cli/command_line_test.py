@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """The command line (issue 24): argument errors exit with status 2 and say what is wrong, a case
 path that is not a regular file is refused at once, a --set value that is not TOML is said to be
-so, and a top-level --set key that belongs to a section is pointed to it.
+so, a top-level --set key that belongs to a section is pointed to it, and talus check estimates
+the output (frames, bytes) and warns of a case that would write too many frames or more than
+the free disk.
 
 Usage: command_line_test.py TALUS SOURCE_DIR WORK_DIR
 """
@@ -37,6 +39,10 @@ expect(["check", case, "--set", "simulation.gravity=[0,"], 2, "does not parse as
 expect(["check", case, "--set", "body.block.velocity=[1e999,0]"], 2, "does not parse as TOML")
 expect(["check", case, "--set", "end_time=1"], 2, "did you mean simulation.end_time?")
 expect(["check", case, "--set", "simulation.scheme=usf"], 0, "particles")  # a bare word: string
+# talus check estimates the output and warns of a case that would write too much.
+expect(["check", case], 0, "output about 21 frames")  # 1 s at 0.05 s, and t = 0
+expect(["check", case, "--set", "output.every=1e-9"], 0, "more than 10,000")
+expect(["check", case, "--set", "output.every=1e-9"], 0, "may not fit")
 
 print(f"{len(failures)} failure(s)")
 sys.exit(1 if failures else 0)

@@ -122,6 +122,22 @@ double estimate_memory(const Case& c, const std::vector<std::size_t>& particles)
   return memory;
 }
 
+double frame_bytes_per_particle(const Case& c) {
+  const double real = c.output.float64_fields ? 8.0 : 4.0;
+  const double position = c.output.float32_positions ? 12.0 : 24.0;
+  auto wants = [&](const std::string& f) {
+    return c.output.fields.empty() ||
+           std::find(c.output.fields.begin(), c.output.fields.end(), f) != c.output.fields.end();
+  };
+  double bytes = position + 8 + 8 + 1 + 4 + 4; // positions, connectivity, offsets, types, body, id
+  bytes += wants("velocity") * 3 * real + wants("displacement") * 3 * real;
+  bytes += wants("stress") * 6 * real;
+  bytes += (wants("mass") + wants("volume") + wants("plastic_strain")) * real;
+  bytes += (wants("material") + wants("field")) * 4.0;
+  bytes += wants("interface") * (4.0 + 3 * real);
+  return bytes;
+}
+
 double machine_memory() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
   return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 8e9;

@@ -38,6 +38,10 @@ void geometry_bounds(const Geometry& g, int dim, Vec3a& lo, Vec3a& hi);
 // with geometric_normal and the grid conditions.
 double estimate_memory(const Case& c, const std::vector<std::size_t>& particles);
 
+// Bytes per particle of one VTU frame before compression: positions, the vertex cells, body
+// and id, and each field of output.fields at output.precision.
+double frame_bytes_per_particle(const Case& c);
+
 // Physical memory of this machine in bytes (the limit a case must fit in).
 double machine_memory();
 
