@@ -95,6 +95,15 @@ velocity.Update()
 assert velocity.GetOutput().GetPointData().GetArray("velocity").GetDataTypeAsString() == "float"
 assert velocity.GetOutput().GetPoints().GetData().GetDataTypeAsString() == "double"
 
+# legend.json names the values of `body` and `material` (ParaView colour-map presets).
+import tomllib
+legend = json.load(open(os.path.join(out, "legend.json")))
+as_run = tomllib.load(open(os.path.join(out, "case.toml"), "rb"))
+names = [b["name"] for b in as_run["body"]]
+assert legend[0]["Annotations"] == [x for i, n in enumerate(names) for x in (str(i), n)], legend[0]
+assert len(legend[0]["IndexedColors"]) == 3 * len(names)
+assert legend[1]["Annotations"][1::2] == [m["name"] for m in as_run["material"]], legend[1]
+
 # The plot tool: a misspelt field lists the ones it can plot (exit 2); the body snapshot has a
 # legend of the bodies' names and axis labels (it is written).
 plot = os.path.join(source, "tools/plot_run.py")

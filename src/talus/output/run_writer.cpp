@@ -62,6 +62,36 @@ std::string contact_nodes_to_vtu(const std::vector<ContactNodeForce<D>>& nodes) 
   return vertices_to_vtu(xyz, {body, other, force, normal, frictional, cohesive});
 }
 
+// legend.json: ParaView colour-map presets (Color Map Editor, "Import Presets") that name the
+// values of the frames' `body` and `material` arrays: interpret them as categories and each
+// particle shows its body's or material's name.
+std::string legend_presets(const Case& c) {
+  auto preset = [](const std::string& name, const std::vector<std::string>& labels) {
+    nlohmann::json annotations = nlohmann::json::array(), colors = nlohmann::json::array();
+    // matplotlib's tab10, the colours of tools/plot_run.py's body snapshots.
+    static const double tab10[10][3] = {
+        {0.122, 0.467, 0.706}, {1.0, 0.498, 0.055},   {0.173, 0.627, 0.173}, {0.839, 0.153, 0.157},
+        {0.580, 0.404, 0.741}, {0.549, 0.337, 0.294}, {0.890, 0.467, 0.761}, {0.498, 0.498, 0.498},
+        {0.737, 0.741, 0.133}, {0.090, 0.745, 0.812}};
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+      annotations.push_back(std::to_string(i));
+      annotations.push_back(labels[i]);
+      for (const double v : tab10[i % 10])
+        colors.push_back(v);
+    }
+    return nlohmann::json{{"Name", name}, {"Annotations", annotations}, {"IndexedColors", colors}};
+  };
+  std::vector<std::string> bodies, materials;
+  for (const BodySpec& b : c.bodies)
+    bodies.push_back(b.name);
+  for (const Material& m : c.materials)
+    materials.push_back(m.name);
+  return nlohmann::json::array({preset("talus bodies: " + c.title, bodies),
+                                preset("talus materials: " + c.title, materials)})
+             .dump(2) +
+         "\n";
+}
+
 } // namespace
 
 template <int D>
@@ -71,6 +101,7 @@ RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::m
   if (ec)
     throw OutputError(fmt::format("{}: cannot create the run folder: {}", dir_, ec.message()));
   write_file_atomic(dir_ + "/case.toml", sim.case_().text);
+  write_file_atomic(dir_ + "/legend.json", legend_presets(sim.case_()));
   probe_ids_ = sim.probe_ids();
   energy_ = "time,step,dt,kinetic_energy" + components<D>("momentum_") + "\n";
   bodies_ = "time,body,mass" + components<D>("centroid_") + components<D>("velocity_") +
