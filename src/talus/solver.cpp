@@ -6,6 +6,7 @@
 #include "talus/solver/detail.hpp"
 
 #include <cmath>
+#include <fmt/format.h>
 #include <limits>
 
 namespace talus {
@@ -50,6 +51,18 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   slab_width_ = 4;
   num_slabs_ = (grid_.cells[0] + slab_width_ - 1) / slab_width_;
   bin_offset_.assign(static_cast<std::size_t>(num_slabs_ * B + 1), 0);
+  // A probe follows the particle of its body nearest its point: say so when that is far.
+  for (const ProbeSpec& pr : c.probes) {
+    Vec<D> near;
+    for (int d = 0; d < D; ++d)
+      near[d] = pr.near[d];
+    const double gap = (particles_.x[nearest_particle(pr.body, near)] - near).norm();
+    if (gap > grid_.h)
+      warnings_.push_back(fmt::format(
+          "probe '{}': the nearest particle of body '{}' is {:.3g} m from its point (more than "
+          "a cell, {:.3g} m): the probe follows that particle",
+          pr.name, c.bodies[pr.body].name, gap, grid_.h));
+  }
   // The energy budget counts from the start (the initial stresses' elastic energy is its
   // baseline) until release() restarts it.
   for (int b = 0; b < B; ++b)

@@ -39,6 +39,14 @@ expect(["check", case, "--set", "simulation.gravity=[0,"], 2, "does not parse as
 expect(["check", case, "--set", "body.block.velocity=[1e999,0]"], 2, "does not parse as TOML")
 expect(["check", case, "--set", "end_time=1"], 2, "did you mean simulation.end_time?")
 expect(["check", case, "--set", "simulation.scheme=usf"], 0, "particles")  # a bare word: string
+# A probe far from its body is warned of (talus run prints the set-up's warnings).
+p = subprocess.run([talus, "run", case, "--out", str(work / "probe"), "--max-steps", "1", "--set",
+                    "probe.block_top.near=[0.3, 1.9]"], capture_output=True, text=True, timeout=60)
+ok = p.returncode == 0 and "probe 'block_top'" in p.stdout and "more than a cell" in p.stdout
+print(("ok   " if ok else "FAIL ") + "a probe far from its body is warned of")
+if not ok:
+    failures.append("probe warning")
+
 # talus check estimates the output and warns of a case that would write too much.
 expect(["check", case], 0, "output about 21 frames")  # 1 s at 0.05 s, and t = 0
 expect(["check", case, "--set", "output.every=1e-9"], 0, "more than 10,000")

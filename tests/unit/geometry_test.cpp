@@ -63,6 +63,18 @@ TEST(FillParticles, ADiskAndASphereWithinTheSamplingError) {
   EXPECT_NEAR(shape_measure(ball.bodies[0].geometry[0], 3), volume, 1e-12);
 }
 
+// GIS exports repeat vertices (the ring closed by its first vertex, doubled points): the same
+// polygon, the same particles.
+TEST(FillParticles, RepeatedVerticesAreTheSamePolygon) {
+  const std::string plain = "polygon = [[0.2, 0.2], [1.4, 0.2], [1.0, 1.1]]";
+  const std::string repeated =
+      "polygon = [[0.2, 0.2], [1.4, 0.2], [1.4, 0.2], [1.0, 1.1], [0.2, 0.2]]";
+  const Case a = test::case_from(one_body(2, plain, 2)),
+             b = test::case_from(one_body(2, repeated, 2));
+  EXPECT_EQ(b.bodies[0].geometry[0].vertices, a.bodies[0].geometry[0].vertices);
+  EXPECT_EQ(fill_particles<2>(b).x, fill_particles<2>(a).x);
+}
+
 TEST(SurfaceNormal, TheNearestFacesOutwardNormal) {
   Geometry box;
   box.kind = Geometry::Kind::box, box.min = {0, 0, 0}, box.max = {2, 1, 0};

@@ -123,7 +123,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"wrong_type", "cell_size = 0.25", "cell_size = \"fine\"",
                 "inline.toml:11: grid.cell_size: expected a number, got a string"},
         BadCase{"negative_modulus", "youngs_modulus = 1e7", "youngs_modulus = -1e7",
-                "inline.toml:19: material[0].youngs_modulus: must be > 0 Pa"},
+                "inline.toml:19: material[0].youngs_modulus: must be >= 1 Pa"},
         BadCase{"poisson_half", "poisson_ratio = 0.25", "poisson_ratio = 0.5",
                 "material[0].poisson_ratio: must be in [0, 0.5)"},
         BadCase{"volume_limit_below_one", "poisson_ratio = 0.25",

@@ -131,7 +131,8 @@ Material read_material(TableReader& r) {
   const double density = r.number("density");
   require(r, "density", density > 0.0, "must be > 0 kg/m^3");
   const double E = r.number("youngs_modulus");
-  require(r, "youngs_modulus", E > 0.0, "must be > 0 Pa");
+  require(r, "youngs_modulus", E >= 1.0,
+          "must be >= 1 Pa (a solid; softer than that the time step exceeds any run)");
   const double nu = r.number("poisson_ratio");
   require(r, "poisson_ratio", nu >= 0.0 && nu < 0.5, "must be in [0, 0.5)");
   if (model == "linear_elastic") {

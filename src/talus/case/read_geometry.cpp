@@ -88,7 +88,14 @@ Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& bas
     } else {
       r.fail("polygon", "expected a CSV file name or an array of [x, y] vertices");
     }
-    if (g.vertices.size() < 3) r.fail("polygon", "a polygon needs at least 3 vertices");
+    // A vertex equal to the one before it (GIS exports repeat the first vertex at the end to
+    // close the ring) adds no edge: it is dropped.
+    auto& v = g.vertices;
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    while (v.size() > 1 && v.back() == v.front())
+      v.pop_back();
+    if (g.vertices.size() < 3)
+      r.fail("polygon", "a polygon needs at least 3 distinct vertices");
     if (g.vertices.size() > max_polygon_vertices)
       r.fail("polygon", fmt::format("{} vertices, more than {}: simplify the polygon",
                                     g.vertices.size(), max_polygon_vertices));
