@@ -94,8 +94,7 @@ Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& bas
     v.erase(std::unique(v.begin(), v.end()), v.end());
     while (v.size() > 1 && v.back() == v.front())
       v.pop_back();
-    if (g.vertices.size() < 3)
-      r.fail("polygon", "a polygon needs at least 3 distinct vertices");
+    if (g.vertices.size() < 3) r.fail("polygon", "a polygon needs at least 3 distinct vertices");
     if (g.vertices.size() > max_polygon_vertices)
       r.fail("polygon", fmt::format("{} vertices, more than {}: simplify the polygon",
                                     g.vertices.size(), max_polygon_vertices));
