@@ -63,7 +63,7 @@ def main():
         theta = math.radians(degrees)
         direction = (math.cos(theta), -math.sin(theta))
         for folder in runs(out, stem):
-            case = tomllib.loads((folder / "case.toml").read_text())
+            case = tomllib.loads((folder / "case_as_run.toml").read_text())
             mu = pair_friction(case)
             t, x = along_plane(folder, "disk", direction)
             rolls = math.tan(theta) <= 3 * mu
@@ -86,7 +86,7 @@ def main():
         theta = math.radians(30.0)
         direction = (math.cos(theta), -math.sin(theta))
         for k, folder in enumerate(runs(out, stem)):
-            case = tomllib.loads((folder / "case.toml").read_text())
+            case = tomllib.loads((folder / "case_as_run.toml").read_text())
             mu = pair_friction(case)
             t, x = along_plane(folder, "block", direction)
             a = g * (math.sin(theta) - mu * math.cos(theta))

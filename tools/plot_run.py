@@ -78,9 +78,9 @@ def available_fields(mesh):
 
 
 def body_names(run):
-    """The bodies' names in body order, from the run folder's case.toml."""
+    """The bodies' names in body order, from the run folder's case_as_run.toml."""
     try:
-        with open(os.path.join(run, "case.toml"), "rb") as f:
+        with open(os.path.join(run, "case_as_run.toml"), "rb") as f:
             return [b["name"] for b in tomllib.load(f).get("body", [])]
     except (OSError, tomllib.TOMLDecodeError, KeyError):
         return []

@@ -412,7 +412,7 @@ private:
     sim_.check_particles(); // a checkpoint is a good state, or none is written
     SaveArchive ar;
     int dim = D;
-    std::string file = c_.file, text = c_.text;
+    std::string file = std::filesystem::absolute(c_.file).string(), text = c_.text;
     ar.io(dim), ar.io(file), ar.io(text);
     serialize(ar);
     std::error_code ec;
@@ -471,7 +471,23 @@ RunResult run_dim(const Case& c, const RunOptions& opt, LoadArchive* restore = n
 } // namespace
 
 RunResult run_case(const Case& c, const RunOptions& opt) {
+  // The files the case read go into inputs/, read before the folder is emptied (the case may be
+  // an earlier run's own case.toml, run again into its folder with --overwrite).
+  std::vector<std::string> inputs;
+  for (const InputFile& f : c.inputs) {
+    std::ifstream in(f.source, std::ios::binary);
+    if (!in) throw OutputError(fmt::format("{}: cannot read the case's input file", f.source));
+    inputs.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
   prepare_run_folder(opt.out_dir, opt.overwrite);
+  if (!c.inputs.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(opt.out_dir + "/inputs", ec);
+    if (ec)
+      throw OutputError(fmt::format("{}/inputs: cannot create: {}", opt.out_dir, ec.message()));
+  }
+  for (std::size_t i = 0; i < c.inputs.size(); ++i)
+    write_file_atomic(opt.out_dir + "/" + c.inputs[i].copy, inputs[i]);
   return c.simulation.dimension == 2 ? run_dim<2>(c, opt) : run_dim<3>(c, opt);
 }
 
@@ -495,7 +511,8 @@ RunResult restart_run(const RunOptions& opt) {
     int dim = 0;
     std::string file, text;
     ar.io(dim), ar.io(file), ar.io(text);
-    // Relative polygon files resolve against the original case file, as in the first run.
+    // The case is the folder's own: its files are the copies in inputs/, wherever the run
+    // folder and the original case now are.
     const std::string own_case = opt.out_dir + "/case.toml";
     if (std::ifstream in(own_case, std::ios::binary); in) {
       const std::string own((std::istreambuf_iterator<char>(in)), {});
@@ -505,7 +522,8 @@ RunResult restart_run(const RunOptions& opt) {
             "values, ran into this folder): not restarted",
             path, own_case));
     }
-    const Case c = parse_case_text(text, file, {});
+    Case c = parse_case_text(text, own_case, {});
+    c.file = file; // the original case file, for the summary
     if (dim != c.simulation.dimension) throw CheckpointError(path + ": dimension mismatch");
     return dim == 2 ? run_dim<2>(c, opt, &ar, path) : run_dim<3>(c, opt, &ar, path);
   }

@@ -8,7 +8,11 @@
 - --restart refuses a checkpoint of another case than the folder's case.toml;
 - summary.json exists with status "running" from the first step on (a run killed outright still
   says it started);
-- --max-steps must be a positive number of steps.
+- --max-steps must be a positive number of steps;
+- the run folder is self-contained: case.toml is the case as written (comments and all) with a
+  [[run]] entry of the --set values, the polygon CSV is copied into inputs/, `talus run
+  RUN/case.toml` from another directory gives the same bits, and --restart works from another
+  directory after the original case and its CSV are deleted and the run folder moved.
 
 Usage: run_folder_integrity_test.py TALUS SOURCE_DIR WORK_DIR
 """
@@ -86,7 +90,9 @@ for f in ["energy.csv", "bodies.csv", "contacts.csv"] + frames(ref):
 other = work / "other"
 code, _ = run(case, "--out", other, *short, "--max-steps", "10")
 text = (other / "case.toml").read_text()
-(other / "case.toml").write_text(text.replace("end_time = 0.1", "end_time = 0.2"))
+edited = text.replace("simulation.end_time=0.1", "simulation.end_time=0.2")
+check(edited != text, "case.toml holds the run's --set values")
+(other / "case.toml").write_text(edited)
 code, out = run("--restart", other)
 check(code == 2 and "another case" in out, f"a foreign checkpoint is refused (exit {code}): "
       f"{out.strip()[-200:]}")
@@ -144,6 +150,36 @@ for table in ["bodies.csv", "probes.csv"]:
     names = {r[1] for r in rows[1:]}
     check(code == 0 and len(widths) == 1 and ("a,b" in names or 'say "hi"' in names),
           f"{table}: rows of one width {widths}, names {sorted(names)[:3]}")
+
+# Self-contained: the case and its CSV in a folder of their own, which is then deleted.
+src = work / "source"
+src.mkdir()
+shutil.copy(case, src / case.name)
+shutil.copy(case.parent / "wedge.csv", src / "wedge.csv")
+own, again, elsewhere = work / "own", work / "again", work / "elsewhere"
+elsewhere.mkdir()
+code, _ = run(src / case.name, "--out", own, *short, "--max-steps", "40")
+written = (own / "case.toml").read_text()
+check(code == 0 and written.startswith(case.read_text()) and "[[run]]" in written
+      and "'simulation.end_time=0.1'" in written and "inputs/wedge.csv" in written,
+      "case.toml: the case as written, then a [[run]] entry of the --set values and the copies")
+check((own / "inputs/wedge.csv").read_bytes() == (case.parent / "wedge.csv").read_bytes(),
+      "the polygon CSV is copied into inputs/")
+shutil.rmtree(src)
+moved = work / "moved"
+own.rename(moved)
+p = subprocess.run([talus, "run", "--restart", str(moved)], cwd=elsewhere, capture_output=True,
+                   text=True, timeout=600)
+check(p.returncode == 0, f"--restart from another directory after the source is deleted and the "
+      f"folder moved: exit {p.returncode} {(p.stdout + p.stderr)[-300:]}")
+for f in ["energy.csv", "bodies.csv", "contacts.csv"] + frames(ref):
+    check((ref / f).read_bytes() == (moved / f).read_bytes(), f"{f} identical after the move")
+p = subprocess.run([talus, "run", str(moved / "case.toml"), "--out", str(again)], cwd=elsewhere,
+                   capture_output=True, text=True, timeout=600)
+check(p.returncode == 0 and (again / "case.toml").read_text() == written,
+      f"RUN/case.toml runs again from another directory (exit {p.returncode}) and adds nothing")
+for f in ["energy.csv", "bodies.csv", "contacts.csv"] + frames(ref):
+    check((ref / f).read_bytes() == (again / f).read_bytes(), f"{f} identical from RUN/case.toml")
 
 # --max-steps takes a positive count.
 for bad in ["0", "-1"]:

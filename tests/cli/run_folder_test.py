@@ -25,7 +25,7 @@ for key in ["talus_version", "case", "dimension", "particles", "bodies", "steps"
     assert key in summary, key
 assert summary["status"] == "completed"
 assert abs(summary["simulated_time"] - 0.2) < 1e-12
-assert "end_time = 0.2" in open(os.path.join(out, "case.toml")).read()
+assert "'simulation.end_time=0.2'" in open(os.path.join(out, "case.toml")).read()
 
 frames = ET.parse(os.path.join(out, "particles.pvd")).getroot().findall(".//DataSet")
 assert [float(f.get("timestep")) for f in frames] == [0.0, 0.1, 0.2], frames
@@ -98,7 +98,8 @@ assert velocity.GetOutput().GetPoints().GetData().GetDataTypeAsString() == "doub
 # legend.json names the values of `body` and `material` (ParaView colour-map presets).
 import tomllib
 legend = json.load(open(os.path.join(out, "legend.json")))
-as_run = tomllib.load(open(os.path.join(out, "case.toml"), "rb"))
+as_run = tomllib.load(open(os.path.join(out, "case_as_run.toml"), "rb"))
+assert as_run["simulation"]["end_time"] == 0.2 and "run" not in as_run
 names = [b["name"] for b in as_run["body"]]
 assert legend[0]["Annotations"] == [x for i, n in enumerate(names) for x in (str(i), n)], legend[0]
 assert len(legend[0]["IndexedColors"]) == 3 * len(names)

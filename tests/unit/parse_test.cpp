@@ -77,7 +77,57 @@ TEST(ParseCase, OverridesReplaceKeysByPathAndByName) {
   EXPECT_EQ(c.bodies[0].particles_per_cell, 3);
   EXPECT_EQ(c.simulation.scheme, Scheme::musl);
   EXPECT_DOUBLE_EQ(c.materials[0].density(), 2500.0);
-  EXPECT_NE(c.text.find("2500"), std::string::npos); // the case as run carries the override
+  EXPECT_NE(c.text.find("material.0.density=2500"), std::string::npos); // in a [[run]] entry
+}
+
+// The case a run folder keeps: the text as written, then a [[run]] entry of the overrides and of
+// the renames to the copies in inputs/. Parsed again from the run folder, it is the same case.
+TEST(ParseCase, TheCaseAsRunIsTheTextAsWrittenAndARunEntry) {
+  const std::string dir = test::temp_dir("case_as_run");
+  std::filesystem::create_directories(dir + "/data");
+  std::filesystem::copy_file(std::string(TALUS_SOURCE_DIR) + "/cases/examples/wedge.csv",
+                             dir + "/data/wedge.csv");
+  const std::string text = "# my comment\n" + good +
+                           "[[body]]\nname = \"wedge\"\nmaterial = \"rock\"\n"
+                           "polygon = \"data/wedge.csv\"\n";
+  const Case c = parse_case_text(text, dir + "/case.toml", {"grid.cell_size=0.125"});
+  ASSERT_EQ(c.inputs.size(), 1u);
+  EXPECT_EQ(c.inputs[0].source, dir + "/data/wedge.csv");
+  EXPECT_EQ(c.inputs[0].copy, "inputs/wedge.csv");
+  EXPECT_EQ(c.text.substr(0, text.size()), text); // verbatim, comment and all
+  EXPECT_NE(c.text.find("'grid.cell_size=0.125'"), std::string::npos);
+  EXPECT_NE(c.text.find("'data/wedge.csv' = 'inputs/wedge.csv'"), std::string::npos);
+  EXPECT_NE(c.resolved.find("cell_size = 0.125"), std::string::npos);
+  EXPECT_EQ(c.resolved.find("[[run]]"), std::string::npos);
+
+  // The run folder: its case.toml and the copy; parsed there, the same case and no new entry.
+  const std::string run = dir + "/run";
+  std::filesystem::create_directories(run + "/inputs");
+  std::filesystem::copy_file(dir + "/data/wedge.csv", run + "/inputs/wedge.csv");
+  const Case again = parse_case_text(c.text, run + "/case.toml");
+  EXPECT_EQ(again.text, c.text);
+  EXPECT_EQ(again.resolved, c.resolved);
+  EXPECT_DOUBLE_EQ(again.grid.cell_size, 0.125);
+  EXPECT_EQ(again.bodies[2].geometry[0].vertices, c.bodies[2].geometry[0].vertices);
+  EXPECT_EQ(again.inputs[0].source, run + "/inputs/wedge.csv");
+  // A later override goes after the earlier ones: it wins.
+  const Case later = parse_case_text(c.text, run + "/case.toml", {"grid.cell_size=0.5"});
+  EXPECT_DOUBLE_EQ(later.grid.cell_size, 0.5);
+  EXPECT_DOUBLE_EQ(parse_case_text(later.text, run + "/case.toml").grid.cell_size, 0.5);
+}
+
+// Two files of the same name in different folders get two copies; one file named twice, one.
+TEST(ParseCase, InputCopiesHaveDistinctNames) {
+  case_reading::InputFiles files("/case");
+  EXPECT_EQ(files.resolve("a/s.csv"), "/case/a/s.csv");
+  files.resolve("b/s.csv");
+  files.resolve("./a/s.csv");
+  ASSERT_EQ(files.files().size(), 2u);
+  EXPECT_EQ(files.files()[0].copy, "inputs/s.csv");
+  EXPECT_EQ(files.files()[1].copy, "inputs/s-2.csv");
+  const auto renames = files.renames_to_copies();
+  EXPECT_EQ(renames.size(), 3u);
+  EXPECT_EQ(renames.at("./a/s.csv"), "inputs/s.csv");
 }
 
 TEST(ParseCase, PolygonFromTheVaiontCsv) {
@@ -178,7 +228,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"missing_polygon_file", "box = { min = [0, 0], max = [1, 0.5] }",
                 "polygon = \"no_such.csv\"", "no_such.csv: cannot open the polygon file"},
         BadCase{"unknown_section", "[output]", "[outptu]",
-                "outptu: unknown key (did you mean 'output'?)"}),
+                "outptu: unknown key (did you mean 'output'?)"},
+        BadCase{"run_set_not_strings", "[output]", "[[run]]\nset = [1]\n[output]",
+                "run[0].set: element 0 is not a string"},
+        BadCase{"run_unknown_key", "[output]", "[[run]]\nsets = []\n[output]",
+                "run[0].sets: unknown key (did you mean 'set'?)"},
+        BadCase{"run_bad_override", "[output]", "[[run]]\nset = ['grid.cell_size']\n[output]",
+                "expected key.path=value"}),
     [](const auto& info) { return info.param.name; });
 
 } // namespace

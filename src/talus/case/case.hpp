@@ -2,6 +2,7 @@
 // in degrees. docs/case-file.md documents each key; parse_case() fills and validates it.
 #pragma once
 
+#include "talus/case/input_files.hpp"
 #include "talus/materials/material.hpp"
 #include "talus/shape.hpp"
 
@@ -187,7 +188,9 @@ struct ResultsSpec {
 struct Case {
   std::string title;
   std::string file; // path of the case file as given
-  std::string text; // the case as run (overrides applied), TOML
+  std::string text; // the case as written, and a [[run]] entry of its overrides and input copies
+  std::string resolved; // the document as read: overrides applied, [[run]] gone, TOML
+  std::vector<InputFile> inputs; // the files it reads, each copied into a run folder's inputs/
   SimulationSettings simulation;
   GridSettings grid;
   std::vector<Material> materials;

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -177,7 +178,7 @@ void read_materials(TableReader& root, Case& c) {
 }
 
 // [[body]]: the bodies (at least one), each inside the grid and within the machine's memory.
-void read_bodies(TableReader& root, Case& c, const std::filesystem::path& base_dir) {
+void read_bodies(TableReader& root, Case& c, InputFiles& files) {
   const int dim = c.simulation.dimension;
   std::vector<std::string> body_names;
   const std::vector<std::string> material_names = names_of(c.materials);
@@ -188,7 +189,7 @@ void read_bodies(TableReader& root, Case& c, const std::filesystem::path& base_d
     if (std::count(body_names.begin(), body_names.end(), b.name))
       r.fail("name", "two bodies have this name");
     b.material = lookup(r, "material", material_names, "material");
-    b.geometry.push_back(read_geometry(r, dim, base_dir));
+    b.geometry.push_back(read_geometry(r, dim, files));
     b.particles_per_cell = r.integer("particles_per_cell", 2, 1, 8);
     b.velocity = r.vector("velocity", dim, Vec3a{0.0, 0.0, 0.0});
     b.rigid = r.boolean("rigid", false);
@@ -478,6 +479,59 @@ void read_verify(TableReader& root, Case& c) {
   }
 }
 
+// [[run]]: what talus adds to a case as the user wrote it when it copies it into a run folder:
+// the run's --set overrides and the renames of the files it copied into inputs/. Taken out of the
+// document; returns the overrides in order.
+std::vector<std::string> take_run_entries(toml::table& doc, const Where& where,
+                                          InputFiles& files) {
+  std::vector<std::string> sets;
+  TableReader root(doc, "", where);
+  for_each_entry(root, "run", [&](TableReader& r, std::size_t) {
+    for (std::string& s : string_list(r, "set"))
+      sets.push_back(std::move(s));
+    std::map<std::string, std::string> renames;
+    if (const toml::table* t = r.table("files"))
+      for (auto&& [k, v] : *t) {
+        if (!v.is_string()) r.fail("files", "expected \"name written\" = \"name read\" strings");
+        renames[std::string(k.str())] = v.value<std::string>().value();
+      }
+    files.add_renames(std::move(renames));
+  });
+  doc.erase("run");
+  return sets;
+}
+
+// The case text a run folder keeps: the text as written, then a [[run]] entry with this run's
+// overrides and the renames its copy needs to read inputs/ (none if there is nothing to add).
+std::string text_as_run(std::string text, const std::vector<std::string>& overrides,
+                        const InputFiles& files) {
+  const auto renames = files.renames_to_copies();
+  if (overrides.empty() && renames.empty()) return text;
+  toml::table entry;
+  if (!overrides.empty()) {
+    toml::array set;
+    for (const auto& o : overrides)
+      set.push_back(o);
+    entry.insert("set", std::move(set));
+  }
+  if (!renames.empty()) {
+    toml::table t;
+    for (const auto& [from, to] : renames)
+      t.insert(from, to);
+    entry.insert("files", std::move(t));
+  }
+  toml::array runs;
+  runs.push_back(std::move(entry));
+  toml::table trailer;
+  trailer.insert("run", std::move(runs));
+  if (!text.empty() && text.back() != '\n') text += '\n';
+  std::ostringstream out;
+  out << "\n# Added by talus run: the --set values of the run and where it copied the files it "
+         "read.\n"
+      << trailer << "\n";
+  return text + out.str();
+}
+
 } // namespace
 
 Case parse_case_text(const std::string& text, const std::string& path,
@@ -488,17 +542,19 @@ Case parse_case_text(const std::string& text, const std::string& path,
   } catch (const toml::parse_error& e) {
     throw CaseError(fmt::format("{}:{}: {}", path, e.source().begin.line, e.description()));
   }
+  Where where{path};
+  InputFiles files(std::filesystem::path(path).parent_path());
+  for (const auto& o : take_run_entries(doc, where, files))
+    apply_override(doc, o, path);
   for (const auto& o : overrides)
     apply_override(doc, o, path);
 
-  Where where{path};
-  const std::filesystem::path base_dir = std::filesystem::path(path).parent_path();
   TableReader root(doc, "", where);
   Case c;
   c.file = path;
-  std::ostringstream as_run;
-  as_run << doc << "\n";
-  c.text = as_run.str();
+  std::ostringstream resolved;
+  resolved << doc << "\n";
+  c.resolved = resolved.str();
   c.title = root.string("title", "");
 
   const toml::table* sim = root.table("simulation");
@@ -515,7 +571,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
   rg.finish();
 
   read_materials(root, c);
-  read_bodies(root, c, base_dir);
+  read_bodies(root, c, files);
   read_boundaries(root, c);
   read_contact(root, c);
   read_interfaces(root, c);
@@ -527,6 +583,8 @@ Case parse_case_text(const std::string& text, const std::string& path,
   read_checks(root, c);
   read_verify(root, c);
   root.finish();
+  c.inputs = files.files();
+  c.text = text_as_run(text, overrides, files);
   return c;
 }
 

@@ -47,7 +47,7 @@ self_intersection(const std::vector<std::array<double, 2>>& v) {
 
 } // namespace
 
-Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& base_dir) {
+Geometry read_geometry(TableReader& r, int dim, InputFiles& files) {
   const std::vector<std::string> kinds = {"box", "polygon", "disk", "sphere"};
   std::vector<std::string> present;
   for (const auto& k : kinds)
@@ -73,8 +73,7 @@ Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& bas
     const toml::node* n = r.find("polygon");
     if (n->is_string()) {
       if (n->value<std::string>()->empty()) r.fail("polygon", "the file name is empty");
-      const std::filesystem::path p = base_dir / n->value<std::string>().value();
-      g.polygon_file = p.string();
+      g.polygon_file = files.resolve(n->value<std::string>().value());
       try {
         g.vertices = read_polygon_csv(g.polygon_file);
       } catch (const CaseError& e) {

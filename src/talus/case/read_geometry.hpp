@@ -2,6 +2,7 @@
 // or as a CSV file beside the case (checked: enough vertices, finite, not crossing itself).
 #pragma once
 
+#include "talus/case/input_files.hpp"
 #include "talus/case/toml_reader.hpp"
 
 #include <filesystem>
@@ -9,6 +10,6 @@
 namespace talus::case_reading {
 
 // The `box`, `disk`/`sphere` or `polygon` key of a [[body]] (exactly one of them).
-Geometry read_geometry(TableReader& r, int dim, const std::filesystem::path& base_dir);
+Geometry read_geometry(TableReader& r, int dim, InputFiles& files);
 
 } // namespace talus::case_reading

@@ -101,6 +101,10 @@ RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::m
   if (ec)
     throw OutputError(fmt::format("{}: cannot create the run folder: {}", dir_, ec.message()));
   write_file_atomic(dir_ + "/case.toml", sim.case_().text);
+  write_file_atomic(dir_ + "/case_as_run.toml",
+                    "# The case as talus read it: case.toml with its [[run]] --set values applied, "
+                    "for tools to read.\n# To run the case again, run case.toml.\n" +
+                        sim.case_().resolved);
   write_file_atomic(dir_ + "/legend.json", legend_presets(sim.case_()));
   probe_ids_ = sim.probe_ids();
   energy_ = "time,step,dt,kinetic_energy" + components<D>("momentum_") + "\n";

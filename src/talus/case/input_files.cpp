@@ -1,0 +1,38 @@
+#include "talus/case/input_files.hpp"
+
+#include <algorithm>
+
+namespace talus::case_reading {
+
+std::string InputFiles::resolve(const std::string& written) {
+  namespace fs = std::filesystem;
+  std::string name = written;
+  for (const auto& r : renames_)
+    if (const auto it = r.find(name); it != r.end()) name = it->second;
+  const fs::path source = fs::path(name).is_absolute() ? fs::path(name) : base_dir_ / name;
+  const std::string read = source.lexically_normal().string();
+  for (std::size_t i = 0; i < files_.size(); ++i)
+    if (files_[i].source == read) {
+      named_.emplace_back(name, i);
+      return read;
+    }
+  // The copy keeps the file's name; a second file of the same name gets "-2", "-3", ...
+  const fs::path file = source.filename();
+  std::string copy = "inputs/" + file.string();
+  for (int k = 2; std::any_of(files_.begin(), files_.end(),
+                              [&](const InputFile& f) { return f.copy == copy; });
+       ++k)
+    copy = "inputs/" + file.stem().string() + "-" + std::to_string(k) + file.extension().string();
+  named_.emplace_back(name, files_.size());
+  files_.push_back({read, copy});
+  return read;
+}
+
+std::map<std::string, std::string> InputFiles::renames_to_copies() const {
+  std::map<std::string, std::string> out;
+  for (const auto& [name, i] : named_)
+    if (name != files_[i].copy) out[name] = files_[i].copy;
+  return out;
+}
+
+} // namespace talus::case_reading

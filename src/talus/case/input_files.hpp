@@ -1,0 +1,50 @@
+// The files a case reads (polygon CSVs today), resolved against the case file and recorded so
+// that a run folder keeps a copy of each under inputs/ and its case.toml reads the copies.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace talus {
+
+// One file a case read: where it was read from, and its copy's path in a run folder.
+struct InputFile {
+  std::string source; // the path read (the case file's folder joined with the name written)
+  std::string copy;   // "inputs/NAME", relative to the run folder
+};
+
+namespace case_reading {
+
+// Resolves the file names a case writes. Each [[run]] entry's `files` table renames a file
+// (written name -> name read), in order; the result is relative to the case file's folder.
+class InputFiles {
+public:
+  explicit InputFiles(std::filesystem::path base_dir) : base_dir_(std::move(base_dir)) {}
+
+  // Adds a [[run]] entry's renames (applied after the earlier entries').
+  void add_renames(std::map<std::string, std::string> renames) {
+    renames_.push_back(std::move(renames));
+  }
+
+  // The path to read for a name the case writes; records the file and names its copy.
+  std::string resolve(const std::string& written);
+
+  const std::vector<InputFile>& files() const { return files_; }
+
+  // The renames a copy of the case in a run folder needs to read its copies in inputs/: name as
+  // resolved by the earlier renames -> copy, for each file whose copy has another name.
+  std::map<std::string, std::string> renames_to_copies() const;
+
+private:
+  std::filesystem::path base_dir_;
+  std::vector<std::map<std::string, std::string>> renames_;
+  std::vector<InputFile> files_;
+  std::vector<std::pair<std::string, std::size_t>> named_; // name after the renames, file
+};
+
+} // namespace case_reading
+
+} // namespace talus
