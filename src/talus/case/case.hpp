@@ -189,7 +189,7 @@ struct Case {
   std::string title;
   std::string file; // path of the case file as given
   std::string text; // the case as written, and a [[run]] entry of its overrides and input copies
-  std::string resolved; // the document as read: overrides applied, [[run]] gone, TOML
+  std::string resolved;          // the document as read: overrides applied, [[run]] gone, TOML
   std::vector<InputFile> inputs; // the files it reads, each copied into a run folder's inputs/
   SimulationSettings simulation;
   GridSettings grid;

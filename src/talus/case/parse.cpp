@@ -482,8 +482,7 @@ void read_verify(TableReader& root, Case& c) {
 // [[run]]: what talus adds to a case as the user wrote it when it copies it into a run folder:
 // the run's --set overrides and the renames of the files it copied into inputs/. Taken out of the
 // document; returns the overrides in order.
-std::vector<std::string> take_run_entries(toml::table& doc, const Where& where,
-                                          InputFiles& files) {
+std::vector<std::string> take_run_entries(toml::table& doc, const Where& where, InputFiles& files) {
   std::vector<std::string> sets;
   TableReader root(doc, "", where);
   for_each_entry(root, "run", [&](TableReader& r, std::size_t) {
