@@ -1,5 +1,7 @@
 #include "talus/initial_state.hpp"
 
+#include "talus/water.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -30,8 +32,14 @@ void apply_k0_stress(const Case& c, Particles<D>& P) {
     double above = 0.0;
     for (const std::size_t p : ps) {
       const int b = P.body_of(p);
-      const double sigma_v = -g * (above + 0.5 * P.m[p]) / area;
-      above += P.m[p];
+      // Below a water level the effective stress: the overburden's buoyant weight.
+      double m = P.m[p];
+      if (c.water.level && !c.bodies[b].rigid)
+        m *= 1.0 - c.water.density / c.materials[c.bodies[b].material].density() *
+                       submerged_fraction(*c.water.level, P.x[p][D - 1],
+                                          h / c.bodies[b].particles_per_cell);
+      const double sigma_v = -g * (above + 0.5 * m) / area;
+      above += m;
       double k0 = c.initial_state.k0;
       if (k0 < 0.0) {
         const double nu = std::visit([](const auto& m) { return m.poisson_ratio; },

@@ -16,6 +16,8 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const Particles<D>& part
     body.material.prepare();
     body.density = c.materials[spec.material].density();
     body.gimp = GimpFactors(c.grid.cell_size, 0.5 * c.grid.cell_size / spec.particles_per_cell);
+    body.particle_height = c.grid.cell_size / spec.particles_per_cell;
+    if (c.water.level && !spec.rigid) body.buoyancy = c.water.density / body.density;
     for (int d = 0; d < D; ++d)
       body.rigid_velocity[d] = spec.velocity[d];
     body.rigid = spec.rigid;
@@ -49,6 +51,13 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const Particles<D>& part
   s.contact_law.cell_size = c.grid.cell_size;
   for (int d = 0; d < D; ++d)
     s.gravity[d] = c.simulation.gravity[d];
+  if (c.water.level) {
+    s.water.on = true;
+    s.water.level = *c.water.level;
+    s.water.density = c.water.density;
+    s.water.g = s.gravity.norm();
+    s.water.up = -s.gravity / s.water.g;
+  }
   s.scheme = c.simulation.scheme;
   s.shape = c.grid.shape;
   s.flip = c.simulation.flip;

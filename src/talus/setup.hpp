@@ -9,6 +9,7 @@
 #include "talus/materials/material.hpp"
 #include "talus/particles.hpp"
 #include "talus/shape.hpp"
+#include "talus/water.hpp"
 
 #include <optional>
 #include <string>
@@ -28,6 +29,16 @@ struct BodySetup {
   std::optional<Geometry> normal_geometry; // geometric_normal: the shape whose normal it uses
   double mass = 0.0;                       // total: the master of a contact pair is heavier
   double density = 0.0;                    // the material's: nodal volume shares m / rho
+  double buoyancy = 0.0;                   // rho_w / rho below the water level (0: dry)
+  double particle_height = 0.0;            // its particles' spacing (how they cross the level)
+};
+
+// The hydrostatic water level, as heights along `up` (against gravity).
+template <int D>
+struct WaterSetup {
+  bool on = false;
+  double level = 0.0, density = 0.0, g = 0.0; // m, kg/m^3, |gravity|
+  Vec<D> up = Vec<D>::Zero();
 };
 
 // Time-step control (simulation.dt, cfl, dt_max, dt_min; initial_state.settle_cfl).
@@ -48,6 +59,7 @@ struct Setup {
   GridConditions<D> conditions;          // velocity conditions of the faces and boxes
   ContactLaw contact_law;
   Vec<D> gravity = Vec<D>::Zero();
+  WaterSetup<D> water;
   Scheme scheme = Scheme::musl;
   ShapeKind shape = ShapeKind::gimp;
   double flip = 1.0;
@@ -62,6 +74,15 @@ struct Setup {
   int interface_of(int a, int b) const { return pair_interface[a * num_bodies + b]; }
   // Body `body`'s slot for interface f in its field's interface arrays.
   int slot(int body, int f) const { return interface_slots[body * num_interfaces + f]; }
+
+  // The body force of a particle of mass m of body b at x: m g, less the weight of the water it
+  // displaces below the level (its submerged share of m rho_w / rho).
+  Vec<D> weight(double m, int b, const Vec<D>& x) const {
+    if (!water.on) return m * gravity;
+    const BodySetup<D>& body = bodies[b];
+    const double f = submerged_fraction(water.level, water.up.dot(x), body.particle_height);
+    return (m * (1.0 - body.buoyancy * f)) * gravity;
+  }
 };
 
 // Builds the setup of case c on its grid, with each body's total mass from its particles.

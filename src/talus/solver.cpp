@@ -167,6 +167,14 @@ double Simulation<D>::gravity_work(int b) const {
   double w = 0.0;
   for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
     w += P.m[p] * setup_.gravity.dot(P.x[p] - P.x0[p]);
+  // Below a water level the buoyancy's work, rho_w / rho m g (H(z0) - H(z)) (water.hpp).
+  const WaterSetup<D>& W = setup_.water;
+  const BodySetup<D>& body = setup_.bodies[b];
+  if (W.on && body.buoyancy > 0.0)
+    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
+      w += body.buoyancy * P.m[p] * W.g *
+           (submerged_integral(W.level, W.up.dot(P.x0[p]), body.particle_height) -
+            submerged_integral(W.level, W.up.dot(P.x[p]), body.particle_height));
   return w;
 }
 

@@ -59,5 +59,25 @@ TEST(K0Stress, HorizontalLayerMatchesTheOverburden) {
   }
 }
 
+// Below a water level (here between two rows) the effective overburden: the buoyant unit weight
+// (rho - rho_w) g below the level, rho g above it.
+TEST(K0Stress, BelowAWaterLevelTheEffectiveOverburden) {
+  const Case c = test::case_from(layer("[water]\nlevel = 0.4\ndensity = 1000\n"));
+  Particles<2> P = fill_particles<2>(c);
+  apply_k0_stress<2>(c, P);
+  const double H = 0.8, level = 0.4, rho = 1800, rho_w = 1000, g = 9.81, s = 0.05;
+  std::map<long, std::pair<double, int>> rows;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    auto& row = rows[std::lround(P.x[p][1] / s - 0.5)];
+    row.first += P.stress[p][1], ++row.second;
+  }
+  for (const auto& [k, row] : rows) {
+    const double y = (k + 0.5) * s;
+    const double sv =
+        y > level ? -rho * g * (H - y) : -(rho * g * (H - level) + (rho - rho_w) * g * (level - y));
+    EXPECT_NEAR(row.first / row.second, sv, 1e-9 * rho * g * H) << k;
+  }
+}
+
 } // namespace
 } // namespace talus

@@ -177,6 +177,13 @@ struct InitialState {
   std::optional<double> settle_cfl;
 };
 
+// A hydrostatic water level ([water]): below it particles weigh their buoyant weight, so the
+// stress is the effective stress; the materials' densities are the saturated ones. No seepage.
+struct WaterSettings {
+  std::optional<double> level; // height of the free surface along -gravity from the origin, m
+  double density = 1000.0;     // kg/m^3
+};
+
 // Headline figures of a run (summary.json "results"): the motion of one body and its probes.
 // Run-out duration: from release until the body's mass-averaged speed falls below stop_speed
 // for the last time.
@@ -199,6 +206,7 @@ struct Case {
   ContactSettings contact;
   std::vector<InterfaceSpec> interfaces;
   InitialState initial_state;
+  WaterSettings water;
   ResultsSpec results;
   std::vector<ProbeSpec> probes;
   OutputSettings output;

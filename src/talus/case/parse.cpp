@@ -363,6 +363,30 @@ void read_initial_state(TableReader& root, Case& c) {
   }
 }
 
+// [water]: a hydrostatic level, and the water's density, below the saturated density of every
+// deformable body's material (a saturated soil is heavier than water).
+void read_water(TableReader& root, Case& c) {
+  const toml::table* w = root.table("water");
+  if (!w) return;
+  TableReader rw(*w, "water", root.where());
+  c.water.level = rw.number("level");
+  c.water.density = rw.number("density", 1000.0);
+  require(rw, "density", c.water.density > 0.0, "must be > 0 kg/m^3");
+  double g = 0.0;
+  for (const double x : c.simulation.gravity)
+    g += x * x;
+  require(rw, "level", g > 0.0, "a water level needs gravity (simulation.gravity is zero)");
+  for (const BodySpec& b : c.bodies) {
+    const Material& m = c.materials[b.material];
+    if (!b.rigid && m.density() <= c.water.density)
+      rw.fail("density",
+              fmt::format("{} kg/m^3 is not below the density of material '{}' ({} kg/m^3) of "
+                          "body '{}': below the level a material's density is the saturated one",
+                          c.water.density, m.name, m.density(), b.name));
+  }
+  rw.finish();
+}
+
 // [results]: the body whose motion the summary reports.
 void read_results(TableReader& root, Case& c) {
   const std::vector<std::string> body_names = names_of(c.bodies);
@@ -575,6 +599,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
   read_contact(root, c);
   read_interfaces(root, c);
   read_initial_state(root, c);
+  read_water(root, c);
   read_results(root, c);
   read_probes(root, c);
   read_output(root, c);

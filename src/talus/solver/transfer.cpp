@@ -222,7 +222,7 @@ void Simulation<D>::scatter_particles() {
     const double m_p = P.m[p];
     const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
-    const Vec<D> mg = m_p * setup_.gravity;
+    const Vec<D> mg = setup_.weight(m_p, b, P.x[p]);
     auto map = [&]<bool contact>() {
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
         N.m[I] += N_I * m_p;
@@ -268,11 +268,11 @@ template <int D>
 void Simulation<D>::map_forces_to_nodes() {
   auto& P = particles_;
   assert_shape_current();
-  scatter([&](std::uint32_t p, int) {
+  scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[P.field[p]];
     const ShapeWeights<D>& sw = shape_[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
-    const Vec<D> mg = P.m[p] * setup_.gravity;
+    const Vec<D> mg = setup_.weight(P.m[p], b, P.x[p]);
     for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
       N.f[I] += N_I * mg - Vsigma * dN_I;
     });
