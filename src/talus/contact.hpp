@@ -31,6 +31,9 @@ struct ContactNode {
   // at the node; zero where the pair is purely frictional. The interface's friction is in mu.
   double cohesion[max_bodies_at_node]{};
   double tension[max_bodies_at_node]{};
+  // An interface's excess pore pressure as a share of its normal stress at the node, the mean
+  // of min(p / sigma_n, 1) over its interface particles' area: friction acts on sigma_n - p.
+  double pore_ratio[max_bodies_at_node]{};
   // Outputs: outward normal used, and the tangential impulse split into its frictional and
   // cohesive parts and the normal impulse (N s) applied to each body.
   Vec<D> normal[max_bodies_at_node];
@@ -124,9 +127,11 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
     node.opened[k] = bonded && dn < 0.0 && dn_corr == 0.0;
     const Vec<D> dv_t = dv - dn * normal;
     const double t = dv_t.norm();
-    // Tangential: friction mu * (normal approach) plus the cohesive capacity (eq. 35-37); stick if
-    // that stops the slip, else slide with the full resistance.
-    const double friction_dv = node.mu[k] * std::max(dn, 0.0);
+    // Tangential: friction mu * (normal approach) plus the cohesive capacity (eq. 35-37); stick
+    // if that stops the slip, else slide with the full resistance. An excess pore pressure takes
+    // its share off the normal force: mu F_n (1 - p / sigma_n) = mu (sigma_n - p) A.
+    const double effective = node.pore_ratio[k] > 0.0 ? 1.0 - node.pore_ratio[k] : 1.0;
+    const double friction_dv = node.mu[k] * std::max(dn, 0.0) * effective;
     const double resist = friction_dv + cohesion_dv;
     const double t_corr = resist >= t ? t : resist;
     c[k] = dn_corr * normal + (t > 0.0 ? Vec<D>((t_corr / t) * dv_t) : Vec<D>::Zero());

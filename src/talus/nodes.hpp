@@ -29,13 +29,19 @@ struct BodyField {
   // interface of the body, at [node * slots + slot]: a node near two of a body's interfaces
   // (a thin body, a junction) keeps each interface's bond and slip apart.
   std::vector<double> cohesion, tension, friction_area, area, slip_rate, slip_weight;
+  // With excess pore pressure on an interface: sum N A^p min(p^p / sigma_n^p, 1), and the
+  // contact's normal force per unit of the body's interface area (Pa), shared out as the
+  // particles' normal stress; with thermal pressurization the frictional work of the step per
+  // unit interface area (J/m^2), shared out as heat.
+  std::vector<double> pore_ratio, normal_stress, heat;
   int slots = 0; // the body's interfaces
 
   // Which of the optional arrays the run uses: contact (grad_m, mx: two or more bodies),
-  // interfaces (the six interface arrays: a body with an interface) and MUSL's re-map (v_remap).
+  // interfaces (the six interface arrays: a body with an interface), MUSL's re-map (v_remap),
+  // the interfaces' pore pressure and frictional heat (pressure, heating).
   // Arrays a run does not use stay empty: no memory, no clearing, no scatter.
   struct Needs {
-    bool contact = true, interfaces = true, remap = true;
+    bool contact = true, interfaces = true, remap = true, pressure = false, heating = false;
   } needs;
 
   std::size_t size() const { return m.size(); }
@@ -63,6 +69,10 @@ struct BodyField {
     if (needs.interfaces)
       for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate, &slip_weight})
         a->assign(n * static_cast<std::size_t>(slots), 0.0);
+    if (needs.interfaces && needs.pressure)
+      for (auto* a : {&pore_ratio, &normal_stress})
+        a->assign(n * static_cast<std::size_t>(slots), 0.0);
+    if (needs.interfaces && needs.heating) heat.assign(n * static_cast<std::size_t>(slots), 0.0);
   }
 
   // Local index of global node coordinates, or -1 outside the box.

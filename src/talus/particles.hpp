@@ -26,6 +26,10 @@ struct Particles {
   // unit thickness in 2D), current cohesion c^p (Pa) and friction coefficient, accumulated slip.
   std::vector<std::int32_t> iface;
   std::vector<double> iface_area, cohesion, friction, slip;
+  // An interface particle on an interface with pore pressure: the offset of its state in
+  // Simulation's pool (Simulation::pore_state: its normal stress, band temperature and pore
+  // pressure rises, then a band's profiles), or -1.
+  std::vector<std::int64_t> pore;
   // The body velocity field the particle maps to: its own body's, or, for an orphan (a particle
   // cut off from its body inside another one, contact.orphan_fraction), that body's.
   std::vector<std::int32_t> field;
@@ -44,7 +48,7 @@ struct Particles {
   template <class Fn>
   void for_each_array(Fn&& f) {
     f(x), f(x0), f(v), f(m), f(vol0), f(vol), f(stress), f(F), f(eps_p), f(id), f(iface),
-        f(iface_area), f(cohesion), f(friction), f(slip), f(field);
+        f(iface_area), f(cohesion), f(friction), f(slip), f(field), f(pore);
   }
 
   void reserve(std::size_t n) {
@@ -67,6 +71,7 @@ struct Particles {
     cohesion.push_back(0.0);
     friction.push_back(0.0);
     slip.push_back(0.0);
+    pore.push_back(-1);
     field.push_back(num_bodies()); // the body being filled: body_begin grows when it is complete
   }
 };

@@ -1,5 +1,8 @@
 #include "talus/setup.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace talus {
 
 template <int D>
@@ -28,6 +31,19 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const Particles<D>& part
     s.bodies.push_back(std::move(body));
   }
   s.interfaces = c.interfaces;
+  // A band's grid reaches 8 diffusion lengths of the run (settling aside: nothing slips then),
+  // and at least 10 band thicknesses.
+  for (const InterfaceSpec& f : c.interfaces) {
+    s.bands.emplace_back();
+    s.interface_pressure.push_back(f.pore_pressure != 0.0 || f.thermal_pressurization);
+    s.pore_pressure = s.pore_pressure || s.interface_pressure.back();
+    if (!f.thermal_pressurization) continue;
+    const BandProperties& band = f.thermal_pressurization->band;
+    const double alpha = std::max(band.thermal_diffusivity, band.hydraulic_diffusivity);
+    s.bands.back().emplace(
+        band, std::max(10.0 * band.thickness, 8.0 * std::sqrt(alpha * c.simulation.end_time)));
+    s.heating = true;
+  }
   // A pair slides with the default friction; an interface pair with its interface's initial
   // friction where no interface particle is (bodies that meet only later), unless a [[contact]]
   // entry names the pair.

@@ -2,6 +2,7 @@
 // masses) when the simulation is built. The phases of the step read this, never the Case.
 #pragma once
 
+#include "talus/band.hpp"
 #include "talus/boundary.hpp"
 #include "talus/case/case.hpp"
 #include "talus/contact.hpp"
@@ -53,10 +54,15 @@ struct Setup {
   int num_bodies = 0, num_interfaces = 0;
   std::vector<BodySetup<D>> bodies;
   std::vector<InterfaceSpec> interfaces; // degradation curves and tensile strengths
-  std::vector<double> pair_friction;     // B x B: Coulomb coefficient of each pair
-  std::vector<int> pair_interface;       // B x B: interface index or -1
-  std::vector<int> interface_slots;      // B x F: the interface's slot in the body's field
-  GridConditions<D> conditions;          // velocity conditions of the faces and boxes
+  // Per interface with thermal pressurization: its band's grid (band.hpp), else empty.
+  std::vector<std::optional<BandGrid>> bands;
+  std::vector<char> interface_pressure; // per interface: an excess pore pressure or a band
+  bool pore_pressure = false;           // any interface has one
+  bool heating = false;              // an interface has a band: contact records the shear traction
+  std::vector<double> pair_friction; // B x B: Coulomb coefficient of each pair
+  std::vector<int> pair_interface;   // B x B: interface index or -1
+  std::vector<int> interface_slots;  // B x F: the interface's slot in the body's field
+  GridConditions<D> conditions;      // velocity conditions of the faces and boxes
   ContactLaw contact_law;
   Vec<D> gravity = Vec<D>::Zero();
   WaterSetup<D> water;

@@ -37,7 +37,17 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     N.needs.contact = B > 1;
     N.needs.interfaces = N.slots > 0;
     N.needs.remap = setup_.scheme == Scheme::musl;
+    N.needs.pressure = setup_.pore_pressure;
+    N.needs.heating = setup_.heating;
   }
+  // Each interface particle of an interface with pore pressure gets its state, zero rises.
+  for (std::size_t p = 0; p < particles_.size(); ++p)
+    if (const int f = particles_.iface[p]; f >= 0 && setup_.interface_pressure[f]) {
+      particles_.pore[p] = static_cast<std::int64_t>(pore_state_.size());
+      pore_state_.resize(pore_state_.size() + pore_header +
+                             (setup_.bands[f] ? setup_.bands[f]->state_size() : 0),
+                         0.0);
+    }
   field_held_.assign(B, 0);
   normal_cache_.resize(B);
   for (int b = 0; b < B; ++b)
@@ -159,6 +169,21 @@ void Simulation<D>::release() {
   strain_energy0_.clear();
   for (int b = 0; b < num_bodies(); ++b)
     strain_energy0_.push_back(strain_energy(b));
+}
+
+template <int D>
+double Simulation<D>::interface_pore_pressure(std::size_t p) const {
+  const auto& P = particles_;
+  if (P.iface[p] < 0) return 0.0;
+  const double p0 = setup_.interfaces[P.iface[p]].pore_pressure;
+  return P.pore[p] >= 0 ? p0 + pore_state_[P.pore[p] + 1] : p0;
+}
+
+template <int D>
+double Simulation<D>::band_temperature(std::size_t p) const {
+  const auto& P = particles_;
+  if (P.pore[p] < 0 || !setup_.bands[P.iface[p]]) return std::numeric_limits<double>::quiet_NaN();
+  return setup_.interfaces[P.iface[p]].thermal_pressurization->temperature + pore_state_[P.pore[p]];
 }
 
 template <int D>

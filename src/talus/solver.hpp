@@ -79,6 +79,18 @@ public:
   // The elastic energy at release (or at the start, without settling).
   double strain_energy_at_release(int b) const { return strain_energy0_[b]; }
 
+  // An interface particle's excess pore pressure (Pa): its interface's, plus its band's
+  // thermal-pressurization rise; 0 off an interface.
+  double interface_pore_pressure(std::size_t p) const;
+  // The band temperature of an interface particle with thermal pressurization (deg C), else NaN.
+  double band_temperature(std::size_t p) const;
+  // The pore pool: per interface particle with pore pressure (Particles::pore), the band-mean
+  // temperature and pore pressure rises (zero without a band), its compressive normal stress
+  // (the contact's normal force of the last step shared out by N_I A^p), then the profiles
+  // across its band (BandGrid's state) if it has one.
+  static constexpr std::size_t pore_header = 3;
+  const std::vector<double>& pore_state() const { return pore_state_; }
+
   // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -110,7 +122,7 @@ public:
     ar.io(time_), ar.io(dt_), ar.io(dt_reference_), ar.io(steps_), ar.io(settling_);
     ar.io(index_of_id_), ar.io(record_.force_), ar.io(record_.interface_force);
     ar.io(record_.impulse_), ar.io(record_.interface_impulse), ar.io(record_.impulse_time);
-    ar.io(record_.work), ar.io(internal_work_), ar.io(strain_energy0_);
+    ar.io(record_.work), ar.io(internal_work_), ar.io(strain_energy0_), ar.io(pore_state_);
     drop_held_fields(); // rescattered from the restored particles: the same sums
   }
 
@@ -238,6 +250,7 @@ private:
   std::vector<std::uint32_t> index_of_id_;
   PhaseTimes phase_times_;
   std::vector<std::string> warnings_;
+  std::vector<double> pore_state_; // thermal pressurization (pore_state())
 };
 
 } // namespace talus

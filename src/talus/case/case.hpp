@@ -2,6 +2,7 @@
 // in degrees. docs/case-file.md documents each key; parse_case() fills and validates it.
 #pragma once
 
+#include "talus/band.hpp"
 #include "talus/case/input_files.hpp"
 #include "talus/materials/material.hpp"
 #include "talus/shape.hpp"
@@ -85,12 +86,23 @@ struct Degradation {
 };
 
 // A cohesive-frictional interface between two bodies (paper section 2.4).
+// Thermal pressurization of an interface's shear band (band.hpp): its properties and the
+// band's temperature before the slide (for output; the model works with the rise).
+struct ThermalPressurization {
+  BandProperties band;
+  double temperature = 20.0; // deg C
+};
+
 struct InterfaceSpec {
   int a = 0, b = 0;
   Degradation friction; // coefficient
   Degradation cohesion; // Pa
   DegradationCurve curve = DegradationCurve::linear;
   double tensile_strength = -1; // Pa, degrades with the cohesion; < 0: equal to the cohesion
+  // Excess pore pressure on the interface (Pa, over the hydrostatic state of [water]): friction
+  // acts on the effective normal traction, c + mu max(sigma_n - p, 0).
+  double pore_pressure = 0.0;
+  std::optional<ThermalPressurization> thermal_pressurization; // adds its rise to pore_pressure
 };
 
 constexpr int max_normal_smoothing = 3; // cells

@@ -328,6 +328,31 @@ void read_interfaces(TableReader& root, Case& c) {
     f.tensile_strength = r.number("tensile_strength", -1.0);
     if (r.has("tensile_strength"))
       require(r, "tensile_strength", f.tensile_strength >= 0.0, "must be >= 0 Pa");
+    f.pore_pressure = r.number("pore_pressure", 0.0);
+    require(r, "pore_pressure", f.pore_pressure >= 0.0, "must be >= 0 Pa (an excess pressure)");
+    if (const toml::table* t = r.table("thermal_pressurization")) {
+      TableReader tp(*t, r.key_path("thermal_pressurization"), r.where());
+      ThermalPressurization th;
+      auto positive = [&](const std::string& key, const std::string& unit) {
+        const double v = tp.number(key);
+        require(tp, key, v > 0.0, "must be > 0 " + unit);
+        return v;
+      };
+      auto non_negative = [&](const std::string& key, const std::string& unit) {
+        const double v = tp.number(key);
+        require(tp, key, v >= 0.0, "must be >= 0 " + unit);
+        return v;
+      };
+      th.band.thickness = positive("thickness", "m");
+      th.band.heat_capacity = positive("heat_capacity", "J/(m^3 K)");
+      th.band.thermal_diffusivity = non_negative("thermal_diffusivity", "m^2/s");
+      th.band.hydraulic_diffusivity = non_negative("hydraulic_diffusivity", "m^2/s");
+      th.band.lambda = non_negative("lambda", "Pa/K");
+      th.temperature = tp.number("temperature", 20.0);
+      require(tp, "temperature", th.temperature > -273.15, "must be above absolute zero (deg C)");
+      tp.finish();
+      f.thermal_pressurization = th;
+    }
     c.interfaces.push_back(f);
   });
 }
@@ -431,8 +456,8 @@ void read_output(TableReader& root, Case& c) {
         ro.choice("position_precision", {"float64", "float32"}, "float64") == "float32";
     if (const toml::array* f = ro.array("fields")) {
       const std::vector<std::string> known = {
-          "velocity",       "stress", "displacement", "mass",      "volume",
-          "plastic_strain", "body",   "material",     "interface", "field"};
+          "velocity", "stress",   "displacement", "mass",  "volume",        "plastic_strain",
+          "body",     "material", "interface",    "field", "pore_pressure", "band_temperature"};
       for (std::size_t i = 0; i < f->size(); ++i) {
         const auto s = f->get(i)->value<std::string>();
         if (!s)

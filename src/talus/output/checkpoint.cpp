@@ -11,7 +11,7 @@ namespace talus {
 namespace {
 
 constexpr char magic[8] = {'T', 'A', 'L', 'U', 'S', 'C', 'K', 'P'};
-constexpr std::uint32_t format_version = 3; // 3: Particles::field (orphans)
+constexpr std::uint32_t format_version = 4; // 4: Particles::band and the band pool
 
 std::uint64_t fnv1a(std::string_view s) {
   std::uint64_t h = 14695981039346656037ull;

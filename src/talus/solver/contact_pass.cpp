@@ -70,7 +70,7 @@ void set_pair_properties(ContactNode<D>& node, const std::int64_t* local, const 
   for (int k = 0; k < node.n; ++k) {
     const int other = heaviest_other(node, k);
     node.mu[k] = setup.friction(node.body[k], node.body[other]);
-    node.cohesion[k] = node.tension[k] = 0.0;
+    node.cohesion[k] = node.tension[k] = node.pore_ratio[k] = 0.0;
     if (const int f = setup.interface_of(node.body[k], node.body[other]); f >= 0) {
       const int s = is_slave(node, k, other) ? k : other;
       const BodyField<D>& S = fields[node.body[s]];
@@ -79,6 +79,7 @@ void set_pair_properties(ContactNode<D>& node, const std::int64_t* local, const 
         node.mu[k] = S.friction_area[i] / S.area[i];
         node.cohesion[k] = S.cohesion[i];
         node.tension[k] = S.tension[i];
+        if (S.needs.pressure) node.pore_ratio[k] = S.pore_ratio[i] / S.area[i];
         if (settling && setup.hold_interfaces) node.cohesion[k] = node.tension[k] = inf;
       }
     }
@@ -95,22 +96,29 @@ void set_pair_properties(ContactNode<D>& node, const std::int64_t* local, const 
 // fringe node one body's velocity is a force over a round-off mass (docs/formulation.md).
 template <int D>
 void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const Setup<D>& setup,
-                  std::vector<BodyField<D>>& fields) {
+                  std::vector<BodyField<D>>& fields, double dt) {
   for (int k = 0; k < node.n; ++k) {
     BodyField<D>& K = fields[node.body[k]];
     if (!K.needs.interfaces || !(node.closed[k] || node.opened[k])) continue;
     const int other = heaviest_other(node, k);
     const int f = setup.interface_of(node.body[k], node.body[other]);
     if (f < 0) continue; // no bond
+    const std::int64_t j = local[k] * K.slots + setup.slot(node.body[k], f);
+    // The normal force here per unit of body k's interface area: its particles' normal stress.
+    if (K.needs.pressure && K.area[j] > 0.0)
+      K.normal_stress[j] = node.normal_impulse[k] / (dt * K.area[j]);
     const Vec<D> rel = node.v[k] - node.v[other];
     const Vec<D>& nrm = node.normal[k];
+    const double rate = node.opened[k] ? rel.norm() : (rel - rel.dot(nrm) * nrm).norm();
+    // The work of the tangential impulse over the slip here, per unit of body k's interface
+    // area at the node (J/m^2): it heats the bands of the particles that share the node.
+    if (K.needs.heating && K.area[j] > 0.0)
+      K.heat[j] = (node.friction_impulse[k] + node.cohesion_impulse[k]) * rate / K.area[j];
     const double v_k = node.m[k] / setup.bodies[node.body[k]].density;
     const double v_other = node.m[other] / setup.bodies[node.body[other]].density;
     const double s = v_other / (v_k + v_other);
     if (std::min(s, 1.0 - s) < detail::min_slip_share) continue; // a fringe: no velocity to trust
     const double share = 4.0 * s * (1.0 - s);
-    const double rate = node.opened[k] ? rel.norm() : (rel - rel.dot(nrm) * nrm).norm();
-    const std::int64_t j = local[k] * K.slots + setup.slot(node.body[k], f);
     K.slip_rate[j] = share * rate;
     K.slip_weight[j] = share;
   }
@@ -202,7 +210,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
                                     node.friction_impulse[k] / dt, node.normal_impulse[k] / dt);
           }
         }
-        if (record) measure_slip(node, local, setup_, fields_);
+        if (record) measure_slip(node, local, setup_, fields_, dt);
       }
       int d = D - 1;
       while (d >= 1 && ++g[d] == hi[d])

@@ -12,10 +12,12 @@ namespace talus {
 // slot) and the shape-weight cache; writes the particle's slip, cohesion and friction. The rate
 // is the weighted mean sum N_I w_I r_I / max(sum N_I w_I, min_slip_weight), so a particle that
 // barely touches the nodes that measured one gathers proportionally less. Nothing degrades
-// while settling, nor on a rigid body or an orphan (off its interface).
+// while settling, nor on a rigid body or an orphan (off its interface). Where the interface has
+// pore pressure, the particle's normal stress is its share of the contact's normal force,
+// sum N_I sigma_I (settling too), and a band takes its share of the frictional work.
 template <int D>
 void Simulation<D>::update_interface_history(double dt) {
-  if (settling_ || setup_.num_interfaces == 0) return;
+  if ((settling_ && !setup_.pore_pressure) || setup_.num_interfaces == 0) return;
   auto& P = particles_;
   for (int b = 0; b < num_bodies(); ++b) {
     if (setup_.bodies[b].rigid || fields_[b].slots == 0) continue;
@@ -27,6 +29,16 @@ void Simulation<D>::update_interface_history(double dt) {
     for (std::int64_t p = begin; p < end; ++p) {
       if (P.iface[p] < 0 || P.field[p] != b) continue;
       const int slot = setup_.slot(b, P.iface[p]);
+      auto gather = [&](const std::vector<double>& a) {
+        double sum = 0.0;
+        for_each_node(N.box, shape_[p], [&](std::int64_t I, double N_I, const Vec<D>&) {
+          sum += N_I * a[I * S + slot];
+        });
+        return sum;
+      };
+      double* state = P.pore[p] >= 0 ? &pore_state_[static_cast<std::size_t>(P.pore[p])] : nullptr;
+      if (state) state[2] = gather(N.normal_stress);
+      if (settling_) continue;
       double rate = 0.0, weight = 0.0;
       for_each_node(N.box, shape_[p], [&](std::int64_t I, double N_I, const Vec<D>&) {
         rate += N_I * N.slip_rate[I * S + slot];
@@ -36,6 +48,16 @@ void Simulation<D>::update_interface_history(double dt) {
       P.slip[p] += rate / std::max(weight, detail::min_slip_weight) * dt;
       P.cohesion[p] = spec.cohesion.at(P.slip[p], spec.curve);
       P.friction[p] = spec.friction.at(P.slip[p], spec.curve);
+      if (state && setup_.bands[P.iface[p]]) {
+        // Thermal pressurization: the band takes its share of the frictional work at its nodes,
+        // sum N_I W_I (J/m^2; the particles at a node share its work by N_I A^p, so the heat is
+        // the interface's dissipation); its mean rises go to the pool's header for the next
+        // scatter and the output.
+        const BandGrid& band = *setup_.bands[P.iface[p]];
+        band.step(state + pore_header, gather(N.heat), dt);
+        state[0] = band.mean_temperature(state + pore_header);
+        state[1] = band.mean_pressure(state + pore_header);
+      }
     }
   }
 }
