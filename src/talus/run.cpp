@@ -95,6 +95,8 @@ public:
   explicit ResultsMonitor(const Simulation<D>& sim)
       : body_(sim.case_().results.body), probe_ids_(sim.probe_ids()) {
     probe_peak_.assign(probe_ids_.size(), 0.0);
+    pore_peak_.assign(sim.setup().interfaces.size(), 0.0);
+    temperature_peak_.assign(sim.setup().interfaces.size(), -inf);
     if (body_ >= 0) centroid0_ = centroid(sim);
   }
 
@@ -102,6 +104,15 @@ public:
     const auto& P = sim.particles();
     for (std::size_t k = 0; k < probe_ids_.size(); ++k)
       probe_peak_[k] = std::max(probe_peak_[k], P.v[sim.index_of(probe_ids_[k])].norm());
+    // The interfaces' largest excess pore pressure and band temperature so far.
+    for (const auto& [offset, f] : sim.pore_entries()) {
+      const InterfaceSpec& spec = sim.setup().interfaces[f];
+      const double* s = &sim.pore_state()[offset];
+      pore_peak_[f] = std::max(pore_peak_[f], spec.pore_pressure + s[1]);
+      if (spec.thermal_pressurization)
+        temperature_peak_[f] =
+            std::max(temperature_peak_[f], spec.thermal_pressurization->temperature + s[0]);
+    }
     if (body_ < 0) return;
     double m = 0.0, ms = 0.0;
     for (std::size_t p = P.body_begin[body_]; p < P.body_begin[body_ + 1]; ++p)
@@ -128,6 +139,16 @@ public:
                                   {"displacement_m", (P.x[p] - P.x0[p]).norm()}};
     }
     if (!probe_ids_.empty()) j["probes"] = probes;
+    nlohmann::json water = nlohmann::json::object();
+    for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
+      if (!sim.setup().interface_pressure[f]) continue;
+      const std::string name =
+          c.bodies[c.interfaces[f].a].name + "-" + c.bodies[c.interfaces[f].b].name;
+      water[name]["peak_pore_pressure_Pa"] = pore_peak_[f];
+      if (c.interfaces[f].thermal_pressurization)
+        water[name]["peak_band_temperature_C"] = temperature_peak_[f];
+    }
+    if (!water.empty()) j["interfaces"] = water;
     if (body_ < 0) return j;
     j["body"] = c.bodies[body_].name;
     j["peak_mean_speed_m_s"] = peak_;
@@ -143,7 +164,7 @@ public:
   template <class Ar>
   void serialize(Ar& ar) {
     ar.io(probe_ids_), ar.io(probe_peak_), ar.io(centroid0_), ar.io(peak_), ar.io(peak_time_);
-    ar.io(last_moving_), ar.io(last_speed_);
+    ar.io(last_moving_), ar.io(last_speed_), ar.io(pore_peak_), ar.io(temperature_peak_);
   }
 
 private:
@@ -158,6 +179,7 @@ private:
   int body_;
   std::vector<std::uint32_t> probe_ids_;
   std::vector<double> probe_peak_;
+  std::vector<double> pore_peak_, temperature_peak_; // per interface
   Vec<D> centroid0_ = Vec<D>::Zero();
   double peak_ = 0.0, peak_time_ = 0.0, last_moving_ = 0.0, last_speed_ = 0.0;
 };

@@ -44,6 +44,7 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   for (std::size_t p = 0; p < particles_.size(); ++p)
     if (const int f = particles_.iface[p]; f >= 0 && setup_.interface_pressure[f]) {
       particles_.pore[p] = static_cast<std::int64_t>(pore_state_.size());
+      pore_entries_.emplace_back(pore_state_.size(), f);
       pore_state_.resize(pore_state_.size() + pore_header +
                              (setup_.bands[f] ? setup_.bands[f]->state_size() : 0),
                          0.0);
@@ -177,6 +178,38 @@ double Simulation<D>::interface_pore_pressure(std::size_t p) const {
   if (P.iface[p] < 0) return 0.0;
   const double p0 = setup_.interfaces[P.iface[p]].pore_pressure;
   return P.pore[p] >= 0 ? p0 + pore_state_[P.pore[p] + 1] : p0;
+}
+
+template <int D>
+double Simulation<D>::pore_pressure(std::size_t p) const {
+  const WaterSetup<D>& W = setup_.water;
+  const double hydrostatic =
+      W.on ? W.density * W.g * std::max(W.level - W.up.dot(particles_.x[p]), 0.0) : 0.0;
+  return hydrostatic + interface_pore_pressure(p);
+}
+
+template <int D>
+typename Simulation<D>::InterfaceWater Simulation<D>::interface_water(int f) const {
+  const auto& P = particles_;
+  InterfaceWater w;
+  const bool band = setup_.bands[f].has_value();
+  double area = 0.0;
+  w.temperature_max = band ? -inf : std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    if (P.iface[p] != f || P.field[p] != P.body_of(p)) continue;
+    const double A = P.iface_area[p], pp = interface_pore_pressure(p);
+    area += A;
+    w.pressure_mean += pp * A;
+    w.pressure_max = std::max(w.pressure_max, pp);
+    if (band) {
+      const double T = band_temperature(p);
+      w.temperature_mean += T * A;
+      w.temperature_max = std::max(w.temperature_max, T);
+    }
+  }
+  if (area > 0.0) w.pressure_mean /= area, w.temperature_mean /= area;
+  if (!band) w.temperature_mean = std::numeric_limits<double>::quiet_NaN();
+  return w;
 }
 
 template <int D>

@@ -84,11 +84,25 @@ public:
   double interface_pore_pressure(std::size_t p) const;
   // The band temperature of an interface particle with thermal pressurization (deg C), else NaN.
   double band_temperature(std::size_t p) const;
+  // The pore pressure of particle p (Pa): the hydrostatic rho_w g (level - z) below a water
+  // level, plus an interface particle's excess.
+  double pore_pressure(std::size_t p) const;
+  // Per interface with pore pressure: the area means and the largest of its particles' excess
+  // pore pressure (Pa) and band temperature (deg C; NaN without a band), orphans aside.
+  struct InterfaceWater {
+    double pressure_mean = 0.0, pressure_max = 0.0;
+    double temperature_mean = 0.0, temperature_max = 0.0;
+  };
+  InterfaceWater interface_water(int f) const;
+
   // The pore pool: per interface particle with pore pressure (Particles::pore), the band-mean
   // temperature and pore pressure rises (zero without a band), its compressive normal stress
   // (the contact's normal force of the last step shared out by N_I A^p), then the profiles
   // across its band (BandGrid's state) if it has one.
   static constexpr std::size_t pore_header = 3;
+  // Each pore-pool entry: its offset and its interface (fixed for the run: sorting moves only
+  // the particles' offsets).
+  const std::vector<std::pair<std::size_t, int>>& pore_entries() const { return pore_entries_; }
   const std::vector<double>& pore_state() const { return pore_state_; }
 
   // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
@@ -251,6 +265,7 @@ private:
   PhaseTimes phase_times_;
   std::vector<std::string> warnings_;
   std::vector<double> pore_state_; // thermal pressurization (pore_state())
+  std::vector<std::pair<std::size_t, int>> pore_entries_;
 };
 
 } // namespace talus

@@ -112,7 +112,12 @@ RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::m
             ",mean_speed,max_speed,kinetic_energy,gravity_work,contact_work,internal_work,"
             "strain_energy,orphans\n";
   contacts_ = "time,body,other" + components<D>("force_") + "\n";
-  interfaces_ = "time,interface,cohesive_force,frictional_force,normal_force\n";
+  interfaces_ = "time,interface,cohesive_force,frictional_force,normal_force";
+  // With pore pressure on an interface: its particles' excess pore pressure (Pa) and, with a
+  // band, its temperature (deg C), area means and largest (empty for an interface without).
+  if (sim.setup().pore_pressure) interfaces_ += ",pore_pressure_mean,pore_pressure_max";
+  if (sim.setup().heating) interfaces_ += ",temperature_mean,temperature_max";
+  interfaces_ += "\n";
   probes_ = "time,probe" + components<D>("") + components<D>("velocity_") + ",speed,displacement\n";
 }
 
@@ -157,9 +162,20 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
   for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
     const InterfaceForce F = sim.mean_interface_force(f);
     interfaces_ += fmt::format(
-        "{:.10g},{},{:.10g},{:.10g},{:.10g}\n", t,
+        "{:.10g},{},{:.10g},{:.10g},{:.10g}", t,
         csv_text(c.bodies[c.interfaces[f].a].name + "-" + c.bodies[c.interfaces[f].b].name),
         F.cohesive, F.frictional, F.normal);
+    const bool own = sim.setup().interface_pressure[f], band = sim.setup().bands[f].has_value();
+    const auto water =
+        own ? sim.interface_water(static_cast<int>(f)) : typename Simulation<D>::InterfaceWater{};
+    if (sim.setup().pore_pressure)
+      interfaces_ += own ? fmt::format(",{:.10g},{:.10g}", water.pressure_mean, water.pressure_max)
+                         : std::string(",,");
+    if (sim.setup().heating)
+      interfaces_ +=
+          band ? fmt::format(",{:.10g},{:.10g}", water.temperature_mean, water.temperature_max)
+               : std::string(",,");
+    interfaces_ += "\n";
   }
   for (std::size_t k = 0; k < probe_ids_.size(); ++k) {
     std::size_t p = 0;
@@ -174,10 +190,23 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
     std::vector<int> mats;
     for (const BodySpec& b : c.bodies)
       mats.push_back(b.material);
+    // With water: each particle's pore pressure; with bands: their temperature (NaN elsewhere).
+    std::vector<ScalarField> extra;
+    if (sim.setup().water.on || sim.setup().pore_pressure) {
+      extra.push_back({"pore_pressure", std::vector<double>(P.size())});
+      for (std::size_t p = 0; p < P.size(); ++p)
+        extra.back().second[p] = sim.pore_pressure(p);
+    }
+    if (sim.setup().heating) {
+      extra.push_back({"band_temperature", std::vector<double>(P.size())});
+      for (std::size_t p = 0; p < P.size(); ++p)
+        extra.back().second[p] = sim.band_temperature(p);
+    }
     write_file_atomic(dir_ + "/" + name,
                       particles_to_vtu<D>(P, mats,
                                           VtuFields{c.output.fields, c.output.float64_fields,
-                                                    c.output.float32_positions}));
+                                                    c.output.float32_positions},
+                                          extra));
     frames_.emplace_back(t, name);
   }
   if (c.output.contact_nodes) {

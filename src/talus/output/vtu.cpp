@@ -107,7 +107,7 @@ private:
 
 template <int D>
 std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body_material,
-                             const VtuFields& fields) {
+                             const VtuFields& fields, const std::vector<ScalarField>& extra) {
   const std::size_t n = P.size();
   auto vec3 = [&](auto get) {
     std::vector<double> a(3 * n, 0.0);
@@ -148,6 +148,8 @@ std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body
     out.reals("interface_cohesion", 1, P.cohesion, f64);
     out.reals("interface_friction", 1, P.friction, f64);
   }
+  for (const auto& [name, values] : extra)
+    if (fields.wants(name)) out.reals(name, 1, values, f64);
   return out.finish();
 }
 
@@ -172,8 +174,8 @@ std::string pvd_collection(const std::vector<std::pair<double, std::string>>& fr
 }
 
 template std::string particles_to_vtu<2>(const Particles<2>&, const std::vector<int>&,
-                                         const VtuFields&);
+                                         const VtuFields&, const std::vector<ScalarField>&);
 template std::string particles_to_vtu<3>(const Particles<3>&, const std::vector<int>&,
-                                         const VtuFields&);
+                                         const VtuFields&, const std::vector<ScalarField>&);
 
 } // namespace talus

@@ -20,9 +20,12 @@ struct VtuFields {
   bool wants(const std::string& f) const;
 };
 
+// A per-particle scalar the simulation derives (pore pressure, band temperature), by name.
+using ScalarField = std::pair<std::string, std::vector<double>>;
+
 template <int D>
 std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body_material,
-                             const VtuFields& fields);
+                             const VtuFields& fields, const std::vector<ScalarField>& extra = {});
 
 // Any point set as VTU vertices: positions (x, y, z per point) and named point arrays, each
 // Float64 (f64, if not empty) or Int32 (i32), `components` values per point.
