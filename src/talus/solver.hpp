@@ -82,6 +82,12 @@ public:
   // An interface particle's excess pore pressure (Pa): its interface's, plus its band's
   // thermal-pressurization rise; 0 off an interface.
   double interface_pore_pressure(std::size_t p) const;
+  // An interface particle's min(p / sigma_n, 1), sigma_n its normal stress of the last step (0
+  // where it has none): the share of its normal stress its pore pressure takes off friction.
+  double pore_ratio(std::size_t p) const {
+    const double sigma_n = pore_state_[static_cast<std::size_t>(particles_.pore[p]) + 2];
+    return sigma_n > 0.0 ? std::min(interface_pore_pressure(p) / sigma_n, 1.0) : 0.0;
+  }
   // The band temperature of an interface particle with thermal pressurization (deg C), else NaN.
   double band_temperature(std::size_t p) const;
   // The pore pressure of particle p (Pa): the hydrostatic rho_w g (level - z) below a water

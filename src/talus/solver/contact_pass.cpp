@@ -110,10 +110,14 @@ void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const S
     const Vec<D> rel = node.v[k] - node.v[other];
     const Vec<D>& nrm = node.normal[k];
     const double rate = node.opened[k] ? rel.norm() : (rel - rel.dot(nrm) * nrm).norm();
-    // The work of the tangential impulse over the slip here, per unit of body k's interface
-    // area at the node (J/m^2): it heats the bands of the particles that share the node.
-    if (K.needs.heating && K.area[j] > 0.0)
-      K.heat[j] = (node.friction_impulse[k] + node.cohesion_impulse[k]) * rate / K.area[j];
+    // The work of the tangential impulse over the slip here heats the bands of the slave body's
+    // particles at the node (theirs set the friction), in proportion to N_I A^p (1 - r^p), their
+    // share of the friction: per unit of that weight, J/m^2. One band, heated once.
+    if (K.needs.heating && is_slave(node, k, other)) {
+      const double weight = K.area[j] - K.pore_ratio[j]; // sum N A^p (1 - r^p)
+      if (weight > 1e-9 * K.area[j])
+        K.heat[j] = (node.friction_impulse[k] + node.cohesion_impulse[k]) * rate / weight;
+    }
     const double v_k = node.m[k] / setup.bodies[node.body[k]].density;
     const double v_other = node.m[other] / setup.bodies[node.body[other]].density;
     const double s = v_other / (v_k + v_other);

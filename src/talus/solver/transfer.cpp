@@ -259,9 +259,7 @@ void Simulation<D>::scatter_particles() {
         N.area[j] += N_I * A;
       });
       if (P.pore[p] >= 0) { // sum N A^p min(p / sigma_n, 1): its mean at the node
-        const double sigma_n = pore_state_[static_cast<std::size_t>(P.pore[p]) + 2];
-        const double ratio =
-            sigma_n > 0.0 ? std::min(interface_pore_pressure(p) / sigma_n, 1.0) : 0.0;
+        const double ratio = pore_ratio(p);
         for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
           N.pore_ratio[I * S + slot] += N_I * A * ratio;
         });
