@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Installs the dependencies, builds the release preset, runs the flagship case (the Vaiont landslide,
-# three bodies, 4 m particle spacing: under 2 minutes on 2 cores after the build), prints its
-# headline figures and plots it. Another case: scripts/flagship.sh CASE.toml [talus run options...]
+# three bodies with the reservoir and thermal pressurization of the clay layer, 4 m particle
+# spacing: under 2 minutes on 2 cores after the build), prints its headline figures and plots it.
+# Another case: scripts/flagship.sh CASE.toml [talus run options...] (the paper's dry model:
+# cases/vaiont/three_bodies.toml)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cmake --preset release
 cmake --build --preset release
-case_file=${1:-cases/vaiont/three_bodies.toml}
+case_file=${1:-cases/vaiont/three_bodies_wet.toml}
 shift || true
 out=runs/$(basename "$case_file" .toml)
 # The script owns runs/<case>: a re-run empties it first (talus refuses a non-empty folder).

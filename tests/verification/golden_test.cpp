@@ -184,6 +184,14 @@ const std::vector<GoldenCase>& golden_cases() {
        50,
        200,
        0x290b876c09aa9bc1ull},
+      // The same with the reservoir (buoyant weights, K0 below the level) and thermal
+      // pressurization of the clay layer (the pore pool, its restart).
+      {"vaiont_three_wet",
+       "cases/vaiont/three_bodies_wet.toml",
+       {"grid.cell_size=16", "interface.0.friction.slip=0.02", "interface.0.cohesion.slip=0.02"},
+       50,
+       200,
+       0xf6d13e42358b236bull},
       // Five bodies: where orphans appear.
       {"vaiont_five",
        "cases/vaiont/five_bodies.toml",
