@@ -504,6 +504,10 @@ RunResult run_case(const Case& c, const RunOptions& opt) {
   prepare_run_folder(opt.out_dir, opt.overwrite);
   if (!c.inputs.empty()) {
     std::error_code ec;
+    std::filesystem::create_directories(opt.out_dir, ec);
+    if (ec)
+      throw OutputError(
+          fmt::format("{}: cannot create the run folder: {}", opt.out_dir, ec.message()));
     std::filesystem::create_directories(opt.out_dir + "/inputs", ec);
     if (ec)
       throw OutputError(fmt::format("{}/inputs: cannot create: {}", opt.out_dir, ec.message()));
