@@ -7,6 +7,9 @@
   profile.png           the final ground surface against the pre-slide ground line
   release_stress.png    vertical stress down a vertical line through the slide at release,
                         against the weight of the particles above
+  vaiont.json           the deposit's figures of the last frame: the front's run-up height on the
+                        north slope, how far north the slide reached, and the final ground
+                        surface against the pre-slide line (printed too)
 
 Usage: plot_vaiont.py RUN_DIR [--section cases/vaiont/section.csv] [--out DIR]
 """
@@ -28,6 +31,8 @@ ap.add_argument("--section", default=str(Path(__file__).parent.parent / "cases/v
 ap.add_argument("--out")
 ap.add_argument("--times", type=float, nargs="+", default=[10.0, 17.5, 22.5, 33.5])
 ap.add_argument("--body", default="slide", help="the body of the speed and stress plots")
+ap.add_argument("--slide", default="slide,upper,middle,toe",
+                help="the bodies that make up the slide (those present are used)")
 ap.add_argument("--spacing", type=float, default=4.0,
                 help="particle spacing (m) if the frames carry no volume field")
 a = ap.parse_args()
@@ -113,12 +118,46 @@ def surface(m, width):
 t0, m0 = frame(0.0)
 tf, mf = frame(frames[-1][0])
 spacing = np.sqrt(np.median(m0.point_data["volume"])) if "volume" in m0.point_data else a.spacing
+body_names = list(dict.fromkeys(r["body"] for r in csv.DictReader(open(run / "bodies.csv"))))
+slide_ids = [i for i, n in enumerate(body_names) if n in a.slide.split(",")]
+if not slide_ids:
+    raise SystemExit(f"plot_vaiont.py: none of the bodies {a.slide} is in {run / 'bodies.csv'}")
+slide_final = np.isin(mf.point_data["body"].ravel().astype(int), slide_ids)
+xf = mf.points[slide_final, :2]
+# The north slope starts where the pre-slide ground leaves the valley floor (its lowest level)
+# for the last time. The run-up is the highest point of that slope the slide's material reached:
+# its highest particle north of the foot lying on the slope (within two spacings of the pre-slide
+# ground line), as a height above the floor.
+floor = ground[:, 1].min()
+foot = ground[ground[:, 1] == floor, 0].max()
+on_slope = (xf[:, 0] > foot) & (xf[:, 1] - np.interp(xf[:, 0], ground[:, 0], ground[:, 1]) <
+                                2 * spacing)
+top = int(np.argmax(np.where(on_slope, xf[:, 1], -np.inf))) if on_slope.any() else None
+xs, ys = surface(mf, 2 * spacing)
+before = np.interp(xs, ground[:, 0], ground[:, 1])
+change = ys - before
+figures = {
+    "time_s": tf,
+    "slide_bodies": [body_names[i] for i in slide_ids],
+    "north_slope_foot_x_m": foot,
+    "run_up_height_m": float(xf[top, 1] - floor) if top is not None else 0.0,
+    "run_up_x_m": float(xf[top, 0]) if top is not None else None,
+    "front_x_m": float(xf[:, 0].max()),
+    "surface_bin_m": 2 * spacing,
+    "largest_rise_m": float(change.max()), "largest_rise_x_m": float(xs[change.argmax()]),
+    "largest_drop_m": float(change.min()), "largest_drop_x_m": float(xs[change.argmin()]),
+    "valley_floor_fill_m": float(ys[(xs >= ground[ground[:, 1] == floor, 0].min()) &
+                                    (xs <= foot)].max() - floor),
+}
+(out / "vaiont.json").write_text(__import__("json").dumps(figures, indent=2) + "\n")
+print("vaiont.json:", figures)
 fig, ax = plt.subplots(figsize=(9, 4))
 ax.plot(ground[:, 0], ground[:, 1], "k--", label="ground before the slide (section.csv)")
-xs, ys = surface(m0, 2 * spacing)
-ax.plot(xs, ys, color="#1f77b4", lw=0.8, label="surface at release")
-xs, ys = surface(mf, 2 * spacing)
+xs0, ys0 = surface(m0, 2 * spacing)
+ax.plot(xs0, ys0, color="#1f77b4", lw=0.8, label="surface at release")
 ax.plot(xs, ys, color="#d62728", label=f"surface at t = {tf:.1f} s")
+if top is not None:
+    ax.plot(*xf[top], "kv", ms=5, label=f"run-up {figures['run_up_height_m']:.0f} m above the floor")
 ax.set_xlabel("x (m)")
 ax.set_ylabel("elevation (m)")
 ax.set_aspect("equal")
@@ -129,7 +168,7 @@ plt.close(fig)
 
 # Vertical stress at release down a vertical line through the slide's centroid (if the frames
 # carry the stress).
-written = ["frames.png", "probe_speed.png", "speed_displacement.png", "profile.png"]
+written = ["frames.png", "probe_speed.png", "speed_displacement.png", "profile.png", "vaiont.json"]
 if "stress" in m0.point_data:
     x = m0.points[:, :2]
     body = m0.point_data["body"].ravel().astype(int)
