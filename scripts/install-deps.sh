@@ -8,6 +8,7 @@ packages=(
   clang clang-format libclang-rt-14-dev libomp-dev
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libgdal-dev                    # terrain rasters and footprints (GeoTIFF, ESRI ASCII, GeoJSON, shapefile)
   python3-numpy python3-matplotlib python3-meshio
   python3-vtk9                   # VTK's own reader, in the run-folder test
   chromium                       # the verification report's browser test

@@ -4,6 +4,7 @@
 
 #include "talus/band.hpp"
 #include "talus/case/input_files.hpp"
+#include "talus/case/terrain.hpp"
 #include "talus/materials/material.hpp"
 #include "talus/shape.hpp"
 
@@ -49,12 +50,18 @@ struct GridSettings {
 };
 
 struct Geometry {
-  enum class Kind { box, polygon, disk } kind = Kind::box;
-  Vec3a min{}, max{};                          // box (rectangle in 2D)
-  std::vector<std::array<double, 2>> vertices; // polygon (2D), counter-clockwise or not
-  std::string polygon_file;                    // where the vertices came from, if a CSV
+  // prism: a polygon extruded along an axis (3D); terrain: between two surfaces z = top(x, y)
+  // and z = bottom(x, y), inside a footprint polygon if there is one (3D).
+  enum class Kind { box, polygon, disk, prism, terrain } kind = Kind::box;
+  Vec3a min{}, max{};                          // box (rectangle in 2D); prism and terrain: bounds
+  std::vector<std::array<double, 2>> vertices; // polygon (2D), prism section, terrain footprint
+  std::string polygon_file;                    // where the vertices came from, if a file
   Vec3a center{};                              // disk (2D) or sphere (3D)
   double radius = 0.0;
+  int axis = 2;               // prism: the extrusion's axis; the polygon's two coordinates are
+                              // the other two axes in order (axis y: the polygon's (x, z))
+  TerrainSurface top, bottom; // terrain
+  bool footprint = false;     // terrain: clipped by the polygon in `vertices`
 };
 
 struct BodySpec {
@@ -219,6 +226,7 @@ struct Case {
   std::vector<InterfaceSpec> interfaces;
   InitialState initial_state;
   WaterSettings water;
+  Vec3a terrain_origin{}; // [terrain] origin: subtracted from what the terrain files hold
   ResultsSpec results;
   std::vector<ProbeSpec> probes;
   OutputSettings output;

@@ -23,6 +23,48 @@ bool point_in_polygon(const std::vector<std::array<double, 2>>& poly, double x, 
   return in;
 }
 
+namespace {
+
+// The distance from x to a polygon's nearest edge and that edge's outward unit normal.
+std::pair<double, Vec<2>> nearest_edge(const std::vector<std::array<double, 2>>& v,
+                                       const Vec<2>& x) {
+  double area = 0.0;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    area += v[i][0] * v[(i + 1) % v.size()][1] - v[(i + 1) % v.size()][0] * v[i][1];
+  double best = inf;
+  Vec<2> n = Vec<2>::Zero();
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const Vec<2> a(v[i][0], v[i][1]), b(v[(i + 1) % v.size()][0], v[(i + 1) % v.size()][1]);
+    const Vec<2> e = b - a;
+    const double t = std::clamp((x - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+    const double dist = (a + t * e - x).norm();
+    if (dist < best) {
+      best = dist;
+      const Vec<2> right(e[1], -e[0]); // outward for a counter-clockwise polygon
+      n = (area > 0.0 ? 1.0 : -1.0) * right / e.norm();
+    }
+  }
+  return {best, n};
+}
+
+// The upward unit normal of a terrain surface at (x, y): (-dz/dx, -dz/dy, 1) normalised, the
+// slopes by central differences over a raster cell (a depth below the top has the top's).
+Vec<3> surface_up(const Geometry& g, const TerrainSurface& s, double x, double y) {
+  const TerrainSurface& shaped = s.kind == TerrainSurface::Kind::depth ? g.top : s;
+  if (shaped.kind != TerrainSurface::Kind::raster) return Vec<3>(0.0, 0.0, 1.0);
+  const Raster& r = *shaped.raster;
+  auto z = [&](double px, double py) {
+    const double v = r.elevation(px, py);
+    return std::isfinite(v) ? v : r.elevation(x, y);
+  };
+  const double sx = (z(x + r.dx, y) - z(x - r.dx, y)) / (2.0 * r.dx);
+  const double sy = (z(x, y + r.dy) - z(x, y - r.dy)) / (2.0 * r.dy);
+  const Vec<3> up(-sx, -sy, 1.0);
+  return std::isfinite(up.squaredNorm()) ? Vec<3>(up / up.norm()) : Vec<3>(0.0, 0.0, 1.0);
+}
+
+} // namespace
+
 template <int D>
 bool inside(const Geometry& g, const Vec<D>& x) {
   switch (g.kind) {
@@ -39,8 +81,43 @@ bool inside(const Geometry& g, const Vec<D>& x) {
   case Geometry::Kind::polygon:
     if constexpr (D == 2) return point_in_polygon(g.vertices, x[0], x[1]);
     return false;
+  case Geometry::Kind::prism:
+    if constexpr (D == 3) {
+      const auto [u, w] = prism_axes(g.axis);
+      return x[g.axis] >= g.min[g.axis] && x[g.axis] <= g.max[g.axis] &&
+             point_in_polygon(g.vertices, x[u], x[w]);
+    }
+    return false;
+  case Geometry::Kind::terrain:
+    if constexpr (D == 3) {
+      if (g.footprint && !point_in_polygon(g.vertices, x[0], x[1])) return false;
+      const auto [top, bottom] = terrain_column(g, x[0], x[1]);
+      return x[2] >= bottom && x[2] <= top; // false where either is NaN (no data)
+    }
+    return false;
   }
   return false;
+}
+
+std::array<int, 2> prism_axes(int axis) {
+  return {axis == 0 ? 1 : 0, axis == 2 ? 1 : 2};
+}
+
+double surface_elevation(const TerrainSurface& s, double x, double y, double top) {
+  switch (s.kind) {
+  case TerrainSurface::Kind::raster:
+    return s.raster->elevation(x, y);
+  case TerrainSurface::Kind::depth:
+    return top - s.value;
+  case TerrainSurface::Kind::constant:
+    break;
+  }
+  return s.value;
+}
+
+std::array<double, 2> terrain_column(const Geometry& g, double x, double y) {
+  const double top = surface_elevation(g.top, x, y, 0.0);
+  return {top, surface_elevation(g.bottom, x, y, top)};
 }
 
 template <int D>
@@ -62,28 +139,40 @@ Vec<D> surface_normal(const Geometry& g, const Vec<D>& x) {
       }
     return n;
   }
-  if constexpr (D == 2) {
-    // Nearest edge; its outward side from the polygon's orientation (signed area).
-    const auto& v = g.vertices;
-    double area = 0.0;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const auto& a = v[i];
-      const auto& b = v[(i + 1) % v.size()];
-      area += a[0] * b[1] - b[0] * a[1];
-    }
-    double best = inf;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const Vec<2> a(v[i][0], v[i][1]), b(v[(i + 1) % v.size()][0], v[(i + 1) % v.size()][1]);
-      const Vec<2> e = b - a;
-      const double t = std::clamp((x - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
-      const double dist = (a + t * e - x).norm();
-      if (dist < best) {
-        best = dist;
-        const Vec<2> right(e[1], -e[0]); // outward for a counter-clockwise polygon
-        n = (area > 0.0 ? 1.0 : -1.0) * right / e.norm();
+  if constexpr (D == 3) {
+    if (g.kind == Geometry::Kind::prism) {
+      // Nearest of the two end caps and the polygon's side walls.
+      const auto [u, w] = prism_axes(g.axis);
+      double best = inf;
+      for (int side = 0; side < 2; ++side) {
+        const double dist = std::abs(x[g.axis] - (side ? g.max[g.axis] : g.min[g.axis]));
+        if (dist < best) best = dist, n.setZero(), n[g.axis] = side ? 1.0 : -1.0;
       }
+      const auto [dist, edge] = nearest_edge(g.vertices, Vec<2>(x[u], x[w]));
+      if (dist < best) n.setZero(), n[u] = edge[0], n[w] = edge[1];
+      return n;
+    }
+    if (g.kind == Geometry::Kind::terrain) {
+      // Nearest of the top (up, normal (-dz/dx, -dz/dy, 1)), the bottom (down) and the
+      // footprint's walls; a surface's distance is its vertical gap times the normal's z.
+      const auto [top, bottom] = terrain_column(g, x[0], x[1]);
+      double best = inf;
+      for (int side = 0; side < 2; ++side) {
+        const TerrainSurface& s = side ? g.bottom : g.top;
+        const double z = side ? bottom : top;
+        if (!std::isfinite(z)) continue;
+        const Vec<3> up = surface_up(g, s, x[0], x[1]);
+        const double dist = std::abs(x[2] - z) * up[2];
+        if (dist < best) best = dist, n = side ? Vec<3>(-up) : up;
+      }
+      if (g.footprint) {
+        const auto [dist, edge] = nearest_edge(g.vertices, Vec<2>(x[0], x[1]));
+        if (dist < best) n = Vec<3>(edge[0], edge[1], 0.0);
+      }
+      return n;
     }
   }
+  if constexpr (D == 2) n = nearest_edge(g.vertices, x).second; // the polygon's nearest edge
   return n;
 }
 
@@ -157,7 +246,8 @@ void for_each_seed(const Case& c, const BodySpec& b, F&& f) {
     lo[d] = 0, hi[d] = cells[d];
   const Geometry& g = b.geometry[0];
   Vec3a blo{}, bhi{};
-  if (g.kind == Geometry::Kind::box)
+  if (g.kind == Geometry::Kind::box || g.kind == Geometry::Kind::prism ||
+      g.kind == Geometry::Kind::terrain)
     blo = g.min, bhi = g.max;
   else if (g.kind == Geometry::Kind::disk)
     for (int d = 0; d < D; ++d)
@@ -178,6 +268,38 @@ void for_each_seed(const Case& c, const BodySpec& b, F&& f) {
   if (D == 0 || total == 0) return;
   for (int d = 0; d < D; ++d)
     if (lo[d] >= hi[d]) return;
+  if constexpr (D == 3) {
+    if (g.kind == Geometry::Kind::terrain) {
+      // Column by column: the surfaces are read once per (x, y), and a bottom above its top is
+      // refused where it is seen.
+      for (i[0] = lo[0]; i[0] < hi[0]; ++i[0])
+        for (i[1] = lo[1]; i[1] < hi[1]; ++i[1]) {
+          const double x = c.grid.origin[0] + (static_cast<double>(i[0]) + 0.5) * s;
+          const double y = c.grid.origin[1] + (static_cast<double>(i[1]) + 0.5) * s;
+          if (g.footprint && !point_in_polygon(g.vertices, x, y)) continue;
+          const auto [top, bottom] = terrain_column(g, x, y);
+          if (!std::isfinite(top) || !std::isfinite(bottom)) continue; // a hole
+          if (bottom > top) {
+            const TerrainSurface& ras = g.top.raster ? g.top : g.bottom;
+            std::string cell;
+            if (ras.raster) {
+              const auto rc = ras.raster->file_cell(x, y);
+              cell =
+                  fmt::format(", cell (row {}, column {}) of {}", rc[0], rc[1], ras.raster->file);
+            }
+            throw CaseError(fmt::format(
+                "{}: body '{}': its bottom ({:.6g} m) is above its top ({:.6g} m) at x = {:.6g}, "
+                "y = {:.6g} (local m){}",
+                c.file, b.name, bottom, top, x, y, cell));
+          }
+          for (i[2] = lo[2]; i[2] < hi[2]; ++i[2]) {
+            const double z = c.grid.origin[2] + (static_cast<double>(i[2]) + 0.5) * s;
+            if (z >= bottom && z <= top) f(Vec<D>(x, y, z));
+          }
+        }
+      return;
+    }
+  }
   while (true) {
     Vec<D> x;
     for (int d = 0; d < D; ++d)

@@ -28,6 +28,25 @@ std::string InputFiles::resolve(const std::string& written) {
   return read;
 }
 
+void InputFiles::add_sidecars(const std::string& read) {
+  namespace fs = std::filesystem;
+  const auto it = std::find_if(files_.begin(), files_.end(),
+                               [&](const InputFile& f) { return f.source == read; });
+  if (it == files_.end()) return;
+  const std::string copy = it->copy;
+  auto add = [&](const std::string& source, const std::string& copied) {
+    std::error_code ec;
+    if (!fs::is_regular_file(source, ec)) return;
+    for (const InputFile& f : files_)
+      if (f.source == source) return;
+    files_.push_back({source, copied});
+  };
+  for (const char* ext : {".prj", ".shx", ".dbf", ".cpg", ".tfw"})
+    add(fs::path(read).replace_extension(ext).string(),
+        fs::path(copy).replace_extension(ext).string());
+  add(read + ".aux.xml", copy + ".aux.xml");
+}
+
 std::map<std::string, std::string> InputFiles::renames_to_copies() const {
   std::map<std::string, std::string> out;
   for (const auto& [name, i] : named_)

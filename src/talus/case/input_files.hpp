@@ -1,5 +1,6 @@
-// The files a case reads (polygon CSVs today), resolved against the case file and recorded so
-// that a run folder keeps a copy of each under inputs/ and its case.toml reads the copies.
+// The files a case reads (polygon CSVs, rasters, footprints), resolved against the case file and
+// recorded so that a run folder keeps a copy of each under inputs/ and its case.toml reads the
+// copies.
 #pragma once
 
 #include <filesystem>
@@ -31,6 +32,11 @@ public:
 
   // The path to read for a name the case writes; records the file and names its copy.
   std::string resolve(const std::string& written);
+
+  // Records the files GDAL reads beside a raster or vector file already resolved (`read`): its
+  // coordinate system (.prj, .aux.xml), a shapefile's index and attributes (.shx, .dbf, .cpg),
+  // a world file (.tfw), those that exist, each copied under its file's copy name.
+  void add_sidecars(const std::string& read);
 
   const std::vector<InputFile>& files() const { return files_; }
 

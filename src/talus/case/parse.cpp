@@ -177,6 +177,17 @@ void read_materials(TableReader& root, Case& c) {
   if (c.materials.empty()) root.fail_missing("material");
 }
 
+// [terrain]: the origin of the case's local coordinates in the terrain files' (easting,
+// northing, elevation), subtracted from every raster and footprint file a body reads.
+void read_terrain_settings(TableReader& root, Case& c) {
+  const toml::table* t = root.table("terrain");
+  if (!t) return;
+  TableReader rt(*t, "terrain", root.where());
+  if (c.simulation.dimension != 3) rt.fail("origin", "[terrain] is for 3D cases");
+  c.terrain_origin = rt.vector("origin", 3, Vec3a{0.0, 0.0, 0.0});
+  rt.finish();
+}
+
 // [[body]]: the bodies (at least one), each inside the grid and within the machine's memory.
 void read_bodies(TableReader& root, Case& c, InputFiles& files) {
   const int dim = c.simulation.dimension;
@@ -189,7 +200,7 @@ void read_bodies(TableReader& root, Case& c, InputFiles& files) {
     if (std::count(body_names.begin(), body_names.end(), b.name))
       r.fail("name", "two bodies have this name");
     b.material = lookup(r, "material", material_names, "material");
-    b.geometry.push_back(read_geometry(r, dim, files));
+    b.geometry.push_back(read_geometry(r, dim, files, c.terrain_origin));
     b.particles_per_cell = r.integer("particles_per_cell", 2, 1, 8);
     b.velocity = r.vector("velocity", dim, Vec3a{0.0, 0.0, 0.0});
     b.rigid = r.boolean("rigid", false);
@@ -201,13 +212,24 @@ void read_bodies(TableReader& root, Case& c, InputFiles& files) {
       b.lattice_angle = a * degrees;
     }
     Vec3a lo{}, hi{};
-    geometry_bounds(b.geometry[0], dim, lo, hi);
+    Geometry& g = b.geometry[0];
+    // A terrain body without a footprint is the part of its rasters inside the grid.
+    if (g.kind == Geometry::Kind::terrain && !g.footprint)
+      for (int d = 0; d < 2; ++d) {
+        g.min[d] = std::max(g.min[d], c.grid.origin[d]);
+        g.max[d] = std::min(g.max[d], c.grid.origin[d] + c.grid.extent[d]);
+        if (g.min[d] >= g.max[d])
+          r.fail("terrain",
+                 fmt::format("its rasters do not reach into the grid along {}", "xy"[d]));
+      }
+    geometry_bounds(g, dim, lo, hi);
     for (int d = 0; d < dim; ++d) {
       const double g0 = c.grid.origin[d], g1 = g0 + c.grid.extent[d];
       if (lo[d] < g0 || hi[d] > g1)
-        r.fail(b.geometry[0].kind == Geometry::Kind::polygon ? "polygon"
-               : b.geometry[0].kind == Geometry::Kind::box   ? "box"
-                                                             : (dim == 2 ? "disk" : "sphere"),
+        r.fail(g.kind == Geometry::Kind::polygon || g.kind == Geometry::Kind::prism ? "polygon"
+               : g.kind == Geometry::Kind::box                                      ? "box"
+               : g.kind == Geometry::Kind::terrain                                  ? "terrain"
+                                                   : (dim == 2 ? "disk" : "sphere"),
                fmt::format("the body reaches outside the grid along {} ([{}, {}] is not inside "
                            "[{}, {}])",
                            "xyz"[d], lo[d], hi[d], g0, g1));
@@ -619,6 +641,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
   rg.finish();
 
   read_materials(root, c);
+  read_terrain_settings(root, c);
   read_bodies(root, c, files);
   read_boundaries(root, c);
   read_contact(root, c);

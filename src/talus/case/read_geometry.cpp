@@ -1,6 +1,10 @@
 #include "talus/case/read_geometry.hpp"
 
+#include "talus/case/parse.hpp"
+#include "talus/case/terrain.hpp"
+
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fmt/format.h>
 #include <fstream>
@@ -47,16 +51,188 @@ self_intersection(const std::vector<std::array<double, 2>>& v) {
 
 } // namespace
 
-Geometry read_geometry(TableReader& r, int dim, InputFiles& files) {
-  const std::vector<std::string> kinds = {"box", "polygon", "disk", "sphere"};
+namespace {
+
+// Checks a polygon's vertices (read from `key`): drops repeated vertices (GIS exports close the
+// ring with the first one), then refuses fewer than 3, too many, a self-crossing ring or a zero
+// area.
+void check_polygon(TableReader& r, const std::string& key, std::vector<std::array<double, 2>>& v) {
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  while (v.size() > 1 && v.back() == v.front())
+    v.pop_back();
+  if (v.size() < 3) r.fail(key, "a polygon needs at least 3 distinct vertices");
+  if (v.size() > max_polygon_vertices)
+    r.fail(key, fmt::format("{} vertices, more than {}: simplify the polygon", v.size(),
+                            max_polygon_vertices));
+  if (const auto cross = self_intersection(v))
+    r.fail(key, fmt::format("the polygon crosses itself: edge {} ({}, {})-({}, {}) meets "
+                            "edge {} (vertices are numbered from 0)",
+                            cross->first, v[cross->first][0], v[cross->first][1],
+                            v[(cross->first + 1) % v.size()][0],
+                            v[(cross->first + 1) % v.size()][1], cross->second));
+  double area = 0.0;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    area += v[i][0] * v[(i + 1) % v.size()][1] - v[(i + 1) % v.size()][0] * v[i][1];
+  if (std::abs(area) < 1e-12) r.fail(key, "the polygon has zero area");
+}
+
+// Whether a file name is a CSV (read by talus) rather than a vector file (read by GDAL).
+bool is_csv(const std::string& name) {
+  std::string ext = std::filesystem::path(name).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char ch) { return std::tolower(ch); });
+  return ext == ".csv" || ext == ".txt";
+}
+
+// A polygon given inline ([[x, y], ...]) or as a file: a CSV of x,y (shifted by `shift` if
+// given), or, with `vector_files`, anything GDAL's vector reader takes (always shifted).
+std::vector<std::array<double, 2>> read_polygon(TableReader& r, const std::string& key,
+                                                InputFiles& files, std::string& file,
+                                                const Vec3a* shift, std::string* crs) {
+  std::vector<std::array<double, 2>> v;
+  const toml::node* n = r.find(key);
+  if (n->is_string()) {
+    const std::string written = n->value<std::string>().value();
+    if (written.empty()) r.fail(key, "the file name is empty");
+    file = files.resolve(written);
+    try {
+      if (is_csv(written) || !crs) {
+        v = read_polygon_csv(file);
+        if (shift)
+          for (auto& p : v)
+            p[0] -= (*shift)[0], p[1] -= (*shift)[1];
+      } else {
+        files.add_sidecars(file);
+        v = read_footprint_vector(file, *shift, *crs);
+      }
+    } catch (const CaseError& e) {
+      r.fail(key, e.what());
+    }
+  } else if (const toml::array* a = n->as_array()) {
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      const Vec3a p = r.as_vector(*a->get(i), fmt::format("{}[{}]", key, i), 2);
+      v.push_back({p[0], p[1]});
+    }
+  } else {
+    r.fail(key, crs ? "expected a file name (CSV, GeoJSON, shapefile) or an array of [x, y] "
+                      "vertices"
+                    : "expected a CSV file name or an array of [x, y] vertices");
+  }
+  check_polygon(r, key, v);
+  return v;
+}
+
+// One surface of a terrain body: a raster file, a constant elevation or (bottom) { depth = d }.
+TerrainSurface read_surface(TableReader& t, const std::string& key, bool bottom, InputFiles& files,
+                            const Vec3a& origin) {
+  TerrainSurface s;
+  const toml::node* n = t.find(key);
+  if (!n) t.fail_missing(key);
+  if (n->is_string()) {
+    const std::string written = n->value<std::string>().value();
+    if (written.empty()) t.fail(key, "the file name is empty");
+    const std::string path = files.resolve(written);
+    files.add_sidecars(path);
+    s.kind = TerrainSurface::Kind::raster;
+    try {
+      s.raster = read_raster(path, origin);
+    } catch (const CaseError& e) {
+      t.fail(key, e.what());
+    }
+  } else if (n->is_number()) {
+    s.value = t.number(key);
+  } else if (bottom && n->is_table()) {
+    TableReader d(*n->as_table(), t.key_path(key), t.where());
+    s.kind = TerrainSurface::Kind::depth;
+    s.value = d.number("depth");
+    require(d, "depth", s.value > 0.0, "must be > 0 m");
+    d.finish();
+  } else {
+    t.fail(key, bottom ? "expected a raster file, an elevation (m) or { depth = d }"
+                       : "expected a raster file or an elevation (m)");
+  }
+  return s;
+}
+
+void read_terrain(TableReader& r, Geometry& g, InputFiles& files, const Vec3a& origin) {
+  g.kind = Geometry::Kind::terrain;
+  const toml::table* tt = r.table("terrain");
+  if (!tt) r.fail("terrain", "expected a table { top = ..., bottom = ..., footprint = ... }");
+  TableReader t(*tt, r.key_path("terrain"), r.where());
+  g.top = read_surface(t, "top", false, files, origin);
+  g.bottom = read_surface(t, "bottom", true, files, origin);
+  std::string footprint_crs;
+  if (t.has("footprint")) {
+    g.footprint = true;
+    g.vertices = read_polygon(t, "footprint", files, g.polygon_file, &origin, &footprint_crs);
+  }
+  t.finish();
+  // One coordinate system for every file that names one.
+  std::vector<std::pair<std::string, std::string>> named; // key, crs
+  for (const auto& [key, s] : {std::pair{"top", &g.top}, std::pair{"bottom", &g.bottom}})
+    if (s->raster) named.emplace_back(key, s->raster->crs);
+  if (g.footprint) named.emplace_back("footprint", footprint_crs);
+  for (std::size_t i = 1; i < named.size(); ++i)
+    if (!same_crs(named[0].second, named[i].second))
+      t.fail(named[i].first,
+             fmt::format("its coordinate system ({}) is not {}'s ({})", crs_name(named[i].second),
+                         named[0].first, crs_name(named[0].second)));
+  // The plan bounds: the footprint's, which each raster must cover, or the rasters' overlap.
+  double lo[2] = {-inf, -inf}, hi[2] = {inf, inf};
+  for (const auto& [key, s] : {std::pair{"top", &g.top}, std::pair{"bottom", &g.bottom}}) {
+    if (!s->raster) continue;
+    const Raster& ras = *s->raster;
+    if (g.footprint)
+      for (std::size_t k = 0; k < g.vertices.size(); ++k)
+        if (!ras.covers(g.vertices[k][0], g.vertices[k][1]))
+          t.fail(key, fmt::format("{} does not cover the footprint: its vertex {} ({}, {}) is "
+                                  "outside the raster's x [{}, {}], y [{}, {}] (local m, after "
+                                  "[terrain] origin)",
+                                  ras.file, k, g.vertices[k][0], g.vertices[k][1], ras.x0,
+                                  ras.x0 + ras.nx * ras.dx, ras.y0, ras.y0 + ras.ny * ras.dy));
+    lo[0] = std::max(lo[0], ras.x0), hi[0] = std::min(hi[0], ras.x0 + ras.nx * ras.dx);
+    lo[1] = std::max(lo[1], ras.y0), hi[1] = std::min(hi[1], ras.y0 + ras.ny * ras.dy);
+  }
+  if (g.footprint) {
+    lo[0] = lo[1] = inf, hi[0] = hi[1] = -inf;
+    for (const auto& v : g.vertices)
+      for (int d = 0; d < 2; ++d)
+        lo[d] = std::min(lo[d], v[d]), hi[d] = std::max(hi[d], v[d]);
+  } else if (!g.top.raster && !g.bottom.raster) {
+    r.fail("terrain", "two constant surfaces need a footprint to bound the body");
+  } else if (lo[0] >= hi[0] || lo[1] >= hi[1]) {
+    r.fail("terrain", fmt::format("the rasters {} and {} do not overlap", g.top.raster->file,
+                                  g.bottom.raster->file));
+  }
+  // The elevation bounds.
+  const double top_lo = g.top.raster ? g.top.raster->z_min : g.top.value;
+  const double top_hi = g.top.raster ? g.top.raster->z_max : g.top.value;
+  const double bottom_lo = g.bottom.raster                                ? g.bottom.raster->z_min
+                           : g.bottom.kind == TerrainSurface::Kind::depth ? top_lo - g.bottom.value
+                                                                          : g.bottom.value;
+  if (!g.top.raster && g.bottom.kind == TerrainSurface::Kind::constant &&
+      g.bottom.value >= g.top.value)
+    t.fail("bottom", fmt::format("the bottom ({} m) is not below the top ({} m)", g.bottom.value,
+                                 g.top.value));
+  g.min = {lo[0], lo[1], bottom_lo};
+  g.max = {hi[0], hi[1], top_hi};
+}
+
+} // namespace
+
+Geometry read_geometry(TableReader& r, int dim, InputFiles& files, const Vec3a& origin) {
+  const std::vector<std::string> kinds = {"box", "polygon", "disk", "sphere", "terrain"};
   std::vector<std::string> present;
   for (const auto& k : kinds)
     if (r.has(k)) present.push_back(k);
   if (present.size() != 1)
     r.fail(present.empty() ? "box" : present[1],
-           "a body needs exactly one geometry: box, polygon (2D), disk (2D) or sphere (3D)");
+           "a body needs exactly one geometry: box, polygon (2D, or 3D with extrude), disk (2D), "
+           "sphere (3D) or terrain (3D)");
   Geometry g;
   const std::string kind = present[0];
+  if (r.has("extrude") && !(kind == "polygon" && dim == 3))
+    r.fail("extrude", "extrude is for a polygon in 3D");
   if (kind == "box") {
     g.kind = Geometry::Kind::box;
     const toml::table* t = r.table("box");
@@ -68,49 +244,32 @@ Geometry read_geometry(TableReader& r, int dim, InputFiles& files) {
       require(b, "max", g.max[d] > g.min[d], "max must exceed min in every direction");
     b.finish();
   } else if (kind == "polygon") {
-    if (dim != 2) r.fail("polygon", "polygons are 2D; use box or sphere in 3D");
-    g.kind = Geometry::Kind::polygon;
-    const toml::node* n = r.find("polygon");
-    if (n->is_string()) {
-      if (n->value<std::string>()->empty()) r.fail("polygon", "the file name is empty");
-      g.polygon_file = files.resolve(n->value<std::string>().value());
-      try {
-        g.vertices = read_polygon_csv(g.polygon_file);
-      } catch (const CaseError& e) {
-        r.fail("polygon", e.what());
+    if (dim != 2 && !r.has("extrude"))
+      r.fail("polygon", "a polygon in 3D needs extrude = { axis = \"y\", from = ..., to = ... }; "
+                        "or use box, sphere or terrain");
+    g.kind = dim == 2 ? Geometry::Kind::polygon : Geometry::Kind::prism;
+    g.vertices = read_polygon(r, "polygon", files, g.polygon_file, nullptr, nullptr);
+    if (dim == 3) {
+      const toml::table* t = r.table("extrude");
+      if (!t) r.fail("extrude", "expected a table { axis = \"y\", from = ..., to = ... }");
+      TableReader e(*t, r.key_path("extrude"), r.where());
+      const std::string axis = e.choice("axis", {"x", "y", "z"}, "z");
+      g.axis = axis[0] - 'x';
+      const double from = e.number("from"), to = e.number("to");
+      require(e, "to", to > from, "must exceed from");
+      e.finish();
+      // The bounds: the polygon's coordinates on the two other axes, the extrusion on its own.
+      const int u = g.axis == 0 ? 1 : 0, w = g.axis == 2 ? 1 : 2;
+      g.min[g.axis] = from, g.max[g.axis] = to;
+      g.min[u] = g.min[w] = inf, g.max[u] = g.max[w] = -inf;
+      for (const auto& v : g.vertices) {
+        g.min[u] = std::min(g.min[u], v[0]), g.max[u] = std::max(g.max[u], v[0]);
+        g.min[w] = std::min(g.min[w], v[1]), g.max[w] = std::max(g.max[w], v[1]);
       }
-    } else if (const toml::array* a = n->as_array()) {
-      for (std::size_t i = 0; i < a->size(); ++i) {
-        const Vec3a v = r.as_vector(*a->get(i), fmt::format("polygon[{}]", i), 2);
-        g.vertices.push_back({v[0], v[1]});
-      }
-    } else {
-      r.fail("polygon", "expected a CSV file name or an array of [x, y] vertices");
     }
-    // A vertex equal to the one before it (GIS exports repeat the first vertex at the end to
-    // close the ring) adds no edge: it is dropped.
-    auto& v = g.vertices;
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-    while (v.size() > 1 && v.back() == v.front())
-      v.pop_back();
-    if (g.vertices.size() < 3) r.fail("polygon", "a polygon needs at least 3 distinct vertices");
-    if (g.vertices.size() > max_polygon_vertices)
-      r.fail("polygon", fmt::format("{} vertices, more than {}: simplify the polygon",
-                                    g.vertices.size(), max_polygon_vertices));
-    if (const auto cross = self_intersection(g.vertices))
-      r.fail("polygon",
-             fmt::format("the polygon crosses itself: edge {} ({}, {})-({}, {}) meets "
-                         "edge {} (vertices are numbered from 0)",
-                         cross->first, g.vertices[cross->first][0], g.vertices[cross->first][1],
-                         g.vertices[(cross->first + 1) % g.vertices.size()][0],
-                         g.vertices[(cross->first + 1) % g.vertices.size()][1], cross->second));
-    double area = 0.0;
-    for (std::size_t i = 0; i < g.vertices.size(); ++i) {
-      const auto& a = g.vertices[i];
-      const auto& b = g.vertices[(i + 1) % g.vertices.size()];
-      area += a[0] * b[1] - b[0] * a[1];
-    }
-    if (std::abs(area) < 1e-12) r.fail("polygon", "the polygon has zero area");
+  } else if (kind == "terrain") {
+    if (dim != 3) r.fail("terrain", "terrain bodies are 3D (elevation along z)");
+    read_terrain(r, g, files, origin);
   } else {
     if ((kind == "disk") != (dim == 2)) r.fail(kind, "use disk in 2D and sphere in 3D");
     g.kind = Geometry::Kind::disk;

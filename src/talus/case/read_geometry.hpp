@@ -1,5 +1,6 @@
-// Reading a body's shape from the case file: a box, a disk or sphere, or a polygon given inline
-// or as a CSV file beside the case (checked: enough vertices, finite, not crossing itself).
+// Reading a body's shape from the case file: a box, a disk or sphere, a polygon given inline or
+// as a CSV file beside the case (checked: enough vertices, finite, not crossing itself), extruded
+// in 3D, or a terrain body between two surfaces (rasters read by GDAL, or constants).
 #pragma once
 
 #include "talus/case/input_files.hpp"
@@ -9,7 +10,8 @@
 
 namespace talus::case_reading {
 
-// The `box`, `disk`/`sphere` or `polygon` key of a [[body]] (exactly one of them).
-Geometry read_geometry(TableReader& r, int dim, InputFiles& files);
+// The `box`, `disk`/`sphere`, `polygon` (with `extrude` in 3D) or `terrain` key of a [[body]]
+// (exactly one of them); `origin` is subtracted from what terrain files hold.
+Geometry read_geometry(TableReader& r, int dim, InputFiles& files, const Vec3a& origin);
 
 } // namespace talus::case_reading

@@ -1,5 +1,7 @@
 #include "talus/case/size.hpp"
 
+#include "talus/case/geometry.hpp"
+
 #include "talus/particles.hpp"
 #include "talus/shape.hpp"
 
@@ -52,7 +54,8 @@ double shape_measure(const Geometry& g, int dim) {
   case Geometry::Kind::disk:
     return dim == 2 ? std::numbers::pi * g.radius * g.radius
                     : 4.0 / 3.0 * std::numbers::pi * g.radius * g.radius * g.radius;
-  case Geometry::Kind::polygon: {
+  case Geometry::Kind::polygon:
+  case Geometry::Kind::prism: {
     double twice = 0.0; // shoelace; a self-crossing polygon gives at most its true area
     const auto& v = g.vertices;
     for (std::size_t i = 0; i < v.size(); ++i) {
@@ -60,7 +63,22 @@ double shape_measure(const Geometry& g, int dim) {
       const auto& b = v[(i + 1) % v.size()];
       twice += a[0] * b[1] - b[0] * a[1];
     }
-    return 0.5 * std::abs(twice);
+    const double area = 0.5 * std::abs(twice);
+    return g.kind == Geometry::Kind::prism ? area * (g.max[g.axis] - g.min[g.axis]) : area;
+  }
+  case Geometry::Kind::terrain: {
+    // The mean thickness over a 64 x 64 sample of columns in the plan bounds, times their area.
+    constexpr int n = 64;
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const double x = g.min[0] + (i + 0.5) / n * (g.max[0] - g.min[0]);
+        const double y = g.min[1] + (j + 0.5) / n * (g.max[1] - g.min[1]);
+        if (g.footprint && !point_in_polygon(g.vertices, x, y)) continue;
+        const auto [top, bottom] = terrain_column(g, x, y);
+        if (top > bottom) sum += top - bottom;
+      }
+    return sum / (n * n) * (g.max[0] - g.min[0]) * (g.max[1] - g.min[1]);
   }
   }
   return 0.0;
@@ -92,6 +110,10 @@ void geometry_bounds(const Geometry& g, int dim, Vec3a& lo, Vec3a& hi) {
   case Geometry::Kind::disk:
     for (int d = 0; d < dim; ++d)
       lo[d] = g.center[d] - g.radius, hi[d] = g.center[d] + g.radius;
+    break;
+  case Geometry::Kind::prism:
+  case Geometry::Kind::terrain:
+    lo = g.min, hi = g.max;
     break;
   case Geometry::Kind::polygon:
     lo = {inf, inf, 0.0}, hi = {-inf, -inf, 0.0};
