@@ -134,7 +134,7 @@ TEST(Terrain, BetweenTwoPlanarRastersTheClosedFormsVolumeAndMass) {
   EXPECT_NEAR(shape_measure(c.bodies[0].geometry[0], 3), volume, 0.02 * volume);
 }
 
-TEST(Terrain, ADepthBelowTheTopAndConstantSurfaces) {
+TEST(Terrain, ADepthBelowTheTopAHeightAboveTheBottomAndConstantSurfaces) {
   const std::string dir = test::temp_dir("terrain_depth");
   write_asc(dir + "/top.asc", 40, 30, 0.0, 0.0, 1.0,
             [](double x, double y) { return 25.0 + 0.2 * x - 0.1 * y; });
@@ -143,6 +143,10 @@ TEST(Terrain, ADepthBelowTheTopAndConstantSurfaces) {
       "terrain = {{ top = '{}/top.asc', bottom = {{ depth = 6.0 }}, footprint = {} }}", dir, box)));
   const double area = 22.0 * 18.0;
   EXPECT_NEAR(volume_of(fill_particles<3>(depth)), area * 6.0, 0.25 * area);
+  const Case height = test::case_from(terrain_case(
+      fmt::format("terrain = {{ top = {{ height = 6.0 }}, bottom = '{}/top.asc', footprint = {} }}",
+                  dir, box)));
+  EXPECT_NEAR(volume_of(fill_particles<3>(height)), area * 6.0, 0.25 * area);
   const Case flat = test::case_from(
       terrain_case(fmt::format("terrain = {{ top = 12.0, bottom = 3.0, footprint = {} }}", box)));
   // Flat surfaces on the particle lattice: exactly 36 layers of 0.25 m.
@@ -293,6 +297,8 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
   expect_refused(terrain("top = 10.0, bottom = 2.0"), {"need a footprint"});
   expect_refused(terrain("top = 10.0, bottom = 12.0, " + fp), {"is not below the top"});
   expect_refused(terrain("top = 10.0, bottom = { depth = -1 }, " + fp), {"depth", "> 0"});
+  expect_refused(terrain("top = { height = 2 }, bottom = { depth = 1 }, " + fp),
+                 {"terrain.top", "give one surface"});
   expect_refused(terrain("top = 10.0, bottom = 2.0, footprint = [[50, 5], [60, 5], [60, 9]]"),
                  {"outside the grid"});
   expect_refused(

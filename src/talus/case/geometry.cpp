@@ -48,9 +48,10 @@ std::pair<double, Vec<2>> nearest_edge(const std::vector<std::array<double, 2>>&
 }
 
 // The upward unit normal of a terrain surface at (x, y): (-dz/dx, -dz/dy, 1) normalised, the
-// slopes by central differences over a raster cell (a depth below the top has the top's).
+// slopes by central differences over a raster cell (an offset from the other surface has its).
 Vec<3> surface_up(const Geometry& g, const TerrainSurface& s, double x, double y) {
-  const TerrainSurface& shaped = s.kind == TerrainSurface::Kind::depth ? g.top : s;
+  const TerrainSurface& shaped =
+      s.kind != TerrainSurface::Kind::offset ? s : (&s == &g.top ? g.bottom : g.top);
   if (shaped.kind != TerrainSurface::Kind::raster) return Vec<3>(0.0, 0.0, 1.0);
   const Raster& r = *shaped.raster;
   auto z = [&](double px, double py) {
@@ -103,21 +104,15 @@ std::array<int, 2> prism_axes(int axis) {
   return {axis == 0 ? 1 : 0, axis == 2 ? 1 : 2};
 }
 
-double surface_elevation(const TerrainSurface& s, double x, double y, double top) {
-  switch (s.kind) {
-  case TerrainSurface::Kind::raster:
-    return s.raster->elevation(x, y);
-  case TerrainSurface::Kind::depth:
-    return top - s.value;
-  case TerrainSurface::Kind::constant:
-    break;
-  }
-  return s.value;
-}
-
 std::array<double, 2> terrain_column(const Geometry& g, double x, double y) {
-  const double top = surface_elevation(g.top, x, y, 0.0);
-  return {top, surface_elevation(g.bottom, x, y, top)};
+  // A raster's or a constant's elevation; an offset surface is the other one's plus or minus.
+  auto z = [&](const TerrainSurface& s) { return s.raster ? s.raster->elevation(x, y) : s.value; };
+  if (g.top.kind == TerrainSurface::Kind::offset) { // a height above the bottom
+    const double bottom = z(g.bottom);
+    return {bottom + g.top.value, bottom};
+  }
+  const double top = z(g.top);
+  return {top, g.bottom.kind == TerrainSurface::Kind::offset ? top - g.bottom.value : z(g.bottom)};
 }
 
 template <int D>

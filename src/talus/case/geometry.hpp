@@ -17,10 +17,8 @@ bool inside(const Geometry& g, const Vec<D>& x);
 
 // A prism's in-plane axes: the polygon's two coordinates are these axes of space, in order.
 std::array<int, 2> prism_axes(int axis);
-// A terrain surface's elevation at (x, y) (NaN where a raster has no data or does not reach);
-// `top` is the top's elevation there, for a depth below it.
-double surface_elevation(const TerrainSurface& s, double x, double y, double top);
-// A terrain body's top and bottom elevations at (x, y).
+// A terrain body's top and bottom elevations at (x, y) (NaN where a raster has no data or does
+// not reach).
 std::array<double, 2> terrain_column(const Geometry& g, double x, double y);
 
 // Outward unit normal of the geometry's surface nearest to x (nearest polygon edge or box face;

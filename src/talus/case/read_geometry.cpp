@@ -122,7 +122,8 @@ std::vector<std::array<double, 2>> read_polygon(TableReader& r, const std::strin
   return v;
 }
 
-// One surface of a terrain body: a raster file, a constant elevation or (bottom) { depth = d }.
+// One surface of a terrain body: a raster file, a constant elevation, or an offset from the
+// other surface: { depth = d } below the top (a bottom), { height = h } above the bottom (a top).
 TerrainSurface read_surface(TableReader& t, const std::string& key, bool bottom, InputFiles& files,
                             const Vec3a& origin) {
   TerrainSurface s;
@@ -141,15 +142,16 @@ TerrainSurface read_surface(TableReader& t, const std::string& key, bool bottom,
     }
   } else if (n->is_number()) {
     s.value = t.number(key);
-  } else if (bottom && n->is_table()) {
+  } else if (n->is_table()) {
     TableReader d(*n->as_table(), t.key_path(key), t.where());
-    s.kind = TerrainSurface::Kind::depth;
-    s.value = d.number("depth");
-    require(d, "depth", s.value > 0.0, "must be > 0 m");
+    const std::string offset = bottom ? "depth" : "height";
+    s.kind = TerrainSurface::Kind::offset;
+    s.value = d.number(offset);
+    require(d, offset, s.value > 0.0, "must be > 0 m");
     d.finish();
   } else {
     t.fail(key, bottom ? "expected a raster file, an elevation (m) or { depth = d }"
-                       : "expected a raster file or an elevation (m)");
+                       : "expected a raster file, an elevation (m) or { height = h }");
   }
   return s;
 }
@@ -161,6 +163,8 @@ void read_terrain(TableReader& r, Geometry& g, InputFiles& files, const Vec3a& o
   TableReader t(*tt, r.key_path("terrain"), r.where());
   g.top = read_surface(t, "top", false, files, origin);
   g.bottom = read_surface(t, "bottom", true, files, origin);
+  if (g.top.kind == TerrainSurface::Kind::offset && g.bottom.kind == TerrainSurface::Kind::offset)
+    t.fail("top", "a height above a bottom given as a depth below the top: give one surface");
   std::string footprint_crs;
   if (t.has("footprint")) {
     g.footprint = true;
@@ -205,13 +209,13 @@ void read_terrain(TableReader& r, Geometry& g, InputFiles& files, const Vec3a& o
                                   g.bottom.raster->file));
   }
   // The elevation bounds.
-  const double top_lo = g.top.raster ? g.top.raster->z_min : g.top.value;
-  const double top_hi = g.top.raster ? g.top.raster->z_max : g.top.value;
-  const double bottom_lo = g.bottom.raster                                ? g.bottom.raster->z_min
-                           : g.bottom.kind == TerrainSurface::Kind::depth ? top_lo - g.bottom.value
-                                                                          : g.bottom.value;
-  if (!g.top.raster && g.bottom.kind == TerrainSurface::Kind::constant &&
-      g.bottom.value >= g.top.value)
+  using K = TerrainSurface::Kind;
+  auto lowest = [](const TerrainSurface& s) { return s.raster ? s.raster->z_min : s.value; };
+  auto highest = [](const TerrainSurface& s) { return s.raster ? s.raster->z_max : s.value; };
+  const double top_hi = g.top.kind == K::offset ? highest(g.bottom) + g.top.value : highest(g.top);
+  const double bottom_lo =
+      g.bottom.kind == K::offset ? lowest(g.top) - g.bottom.value : lowest(g.bottom);
+  if (g.top.kind == K::constant && g.bottom.kind == K::constant && g.bottom.value >= g.top.value)
     t.fail("bottom", fmt::format("the bottom ({} m) is not below the top ({} m)", g.bottom.value,
                                  g.top.value));
   g.min = {lo[0], lo[1], bottom_lo};

@@ -34,11 +34,11 @@ struct Raster {
   std::array<int, 2> file_cell(double x, double y) const;
 };
 
-// A surface bounding a terrain body: a raster, a constant elevation, or (bottom only) a depth
-// below the top.
+// A surface bounding a terrain body: a raster, a constant elevation, or an offset from the other
+// surface (a bottom at a depth below the top, or a top at a height above the bottom).
 struct TerrainSurface {
-  enum class Kind { constant, raster, depth } kind = Kind::constant;
-  double value = 0.0; // elevation (constant) or depth (m)
+  enum class Kind { constant, raster, offset } kind = Kind::constant;
+  double value = 0.0; // elevation (constant) or the depth or height (offset, m)
   std::shared_ptr<const Raster> raster;
 };
 
