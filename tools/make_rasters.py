@@ -5,9 +5,10 @@ ship:
   plane OUT.asc --slope DEG --extent X Y --cell H --height Z0
       the plane z = Z0 - x tan(slope) over [0, X] x [0, Y] (cases/benchmarks/terrain_block.toml)
 
-  section SECTION.csv LINE OUT.asc --width W --cell H [--flank DEG --flank-width B]
+  section SECTION.csv LINE[,LINE...] OUT.asc --width W --cell H [--flank DEG --flank-width B]
       a 2D section's line z(x) (section.csv's `line,x,z` rows, e.g. ground_before or
-      failure_surface) extruded across the valley along y over [0, W]; with --flank, the surface
+      failure_surface; with several, each x takes the first line that reaches it) extruded
+      across the valley along y over [0, W]; with --flank, the surface
       rises at DEG degrees over the last B metres on either side (a valley whose flanks close the
       slide in) (cases/vaiont/3d/)
 
@@ -31,7 +32,7 @@ def write_asc(path, z, x0, y0, cell):
 
 
 def centres(length, cell):
-    n = int(round(length / cell))
+    n = int(math.ceil(length / cell - 1e-9))  # the cells cover the whole length
     return (np.arange(n) + 0.5) * cell
 
 
@@ -58,15 +59,24 @@ if a.kind == "plane":
     z = a.height - np.tan(math.radians(a.slope)) * x[None, :] + 0.0 * y[:, None]
     write_asc(a.out, z, 0.0, 0.0, a.cell)
 else:
-    pts = [(float(r["x"]), float(r["z"])) for r in csv.DictReader(open(a.section))
-           if r["line"] == a.line]
-    if not pts:
-        raise SystemExit(f"make_rasters.py: {a.section} has no line '{a.line}'")
-    xs, zs = np.array(pts).T
-    x = centres(xs.max() - xs.min(), a.cell) + xs.min()
+    rows = list(csv.DictReader(open(a.section)))
+    lines = []
+    for name in a.line.split(","):
+        pts = sorted((float(r["x"]), float(r["z"])) for r in rows if r["line"] == name)
+        if not pts:
+            raise SystemExit(f"make_rasters.py: {a.section} has no line '{name}'")
+        lines.append(np.array(pts).T)
+    lo = min(l[0].min() for l in lines)
+    hi = max(l[0].max() for l in lines)
+    x = centres(hi - lo, a.cell) + lo
+    zx = np.full(len(x), np.nan)
+    for k, (lx, lz) in enumerate(lines):  # the first line that reaches x gives its elevation
+        take = np.isnan(zx) & (x >= lx.min()) & (x <= lx.max())
+        if k == 0:  # the first line also holds over the part cell past its end
+            take |= np.isnan(zx) & (x > lx.max()) & (x < lx.max() + a.cell)
+        zx[take] = np.interp(x[take], lx, lz)
     y = centres(a.width, a.cell)
-    zx = np.interp(x, xs, zs)
     # The flanks: the distance into the flank band from its inner edge, times the slope.
     into = np.maximum(0.0, np.maximum(a.flank_width - y, y - (a.width - a.flank_width)))
     rise = np.tan(math.radians(a.flank)) * into if a.flank > 0 else 0.0 * y
-    write_asc(a.out, zx[None, :] + rise[:, None], xs.min(), 0.0, a.cell)
+    write_asc(a.out, zx[None, :] + rise[:, None], lo, 0.0, a.cell)

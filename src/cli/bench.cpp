@@ -32,6 +32,7 @@ int run_bench(const BenchOptions& opt) {
        {"grid.cell_size=4", "initial_state.settle_time=0", "interface.0.friction.slip=0.02",
         "interface.0.cohesion.slip=0.02"},
        200},
+      {"vaiont_3d", "cases/vaiont/rigid_boundary_3d.toml", {"initial_state.settle_time=0"}, 100},
   };
   nlohmann::json out = nlohmann::json::array();
   fmt::print(

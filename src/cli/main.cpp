@@ -197,7 +197,8 @@ int main(int argc, char** argv) {
   auto* bench =
       app.add_subcommand("bench", "throughput of fixed problems (particle-updates per second)");
   bench->add_option("--threads", bench_opt.threads, "thread counts to run (default: 1 2)");
-  bench->add_option("--problems", bench_opt.problems, "column, column_4x, vaiont (default: all)");
+  bench->add_option("--problems", bench_opt.problems,
+                    "column, column_4x, vaiont, vaiont_3d (default: all)");
   bench->add_option("--json", bench_opt.json_out, "also write the figures as JSON here");
   bench->add_option("--source", bench_opt.source_dir, "the Talus source folder (default: .)");
 

@@ -234,12 +234,27 @@ TEST(Terrain, SurfaceNormalsOfThePlanesAndWalls) {
             1e-12);
   EXPECT_LT((surface_normal<3>(g, Vec<3>(20, 24.9, z_top(20, 24.9) - 4)) - Vec<3>(0, 1, 0)).norm(),
             1e-12);
+  // A footprint's wall on the grid's face bounds nothing: there the normal is the top's (0.6 m
+  // from the wall, 0.67 m below the top).
+  const Case flush = test::case_from(
+      terrain_case(fmt::format("terrain = {{ top = '{}/top.asc', bottom = {{ depth = 8.0 }}, "
+                               "footprint = [[0, 0], [40, 0], [40, 30], [0, 30]] }}",
+                               dir)));
+  const Geometry& f = flush.bodies[0].geometry[0];
+  EXPECT_EQ(f.open_edge, std::vector<char>(4, 1));
+  EXPECT_LT((surface_normal<3>(f, Vec<3>(20, 0.6, z_top(20, 0.6) - 0.7)) - up).norm(), 1e-6);
   const Case p = test::case_from(terrain_case("polygon = [[2, 1], [30, 1], [30, 25], [2, "
                                               "25]]\nextrude = { axis = 'y', from = 3, to = 27 }"));
   const Geometry& q = p.bodies[0].geometry[0]; // the polygon's (x, z), extruded along y
   EXPECT_EQ(surface_normal<3>(q, Vec<3>(10, 3.2, 12)), Vec<3>(0, -1, 0));
   EXPECT_EQ(surface_normal<3>(q, Vec<3>(10, 15, 24.5)), Vec<3>(0, 0, 1));
   EXPECT_EQ(surface_normal<3>(q, Vec<3>(29.9, 15, 12)), Vec<3>(1, 0, 0));
+  // Extruded across the whole grid: its caps are the grid's faces, not surfaces.
+  const Case across =
+      test::case_from(terrain_case("polygon = [[2, 1], [30, 1], [30, 25], [2, 25]]\nextrude = { "
+                                   "axis = 'y', from = 0, to = 30 }"));
+  EXPECT_EQ(surface_normal<3>(across.bodies[0].geometry[0], Vec<3>(10, 0.2, 24.5)),
+            Vec<3>(0, 0, 1));
 }
 
 // Every input error names the file and what is wrong.

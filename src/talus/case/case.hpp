@@ -62,6 +62,10 @@ struct Geometry {
                               // the other two axes in order (axis y: the polygon's (x, z))
   TerrainSurface top, bottom; // terrain
   bool footprint = false;     // terrain: clipped by the polygon in `vertices`
+  // Prism and terrain: the faces on the grid's own faces (polygon edge i to i + 1, a prism's
+  // caps at from and to), with nothing beyond them: not surfaces for the geometric normal.
+  std::vector<char> open_edge;
+  std::array<bool, 2> open_cap{};
 };
 
 struct BodySpec {

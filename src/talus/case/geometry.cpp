@@ -25,15 +25,17 @@ bool point_in_polygon(const std::vector<std::array<double, 2>>& poly, double x, 
 
 namespace {
 
-// The distance from x to a polygon's nearest edge and that edge's outward unit normal.
-std::pair<double, Vec<2>> nearest_edge(const std::vector<std::array<double, 2>>& v,
-                                       const Vec<2>& x) {
+// The distance from x to a polygon's nearest edge and that edge's outward unit normal; edges
+// marked in `open` are skipped (infinite distance if all are).
+std::pair<double, Vec<2>> nearest_edge(const std::vector<std::array<double, 2>>& v, const Vec<2>& x,
+                                       const std::vector<char>& open = {}) {
   double area = 0.0;
   for (std::size_t i = 0; i < v.size(); ++i)
     area += v[i][0] * v[(i + 1) % v.size()][1] - v[(i + 1) % v.size()][0] * v[i][1];
   double best = inf;
   Vec<2> n = Vec<2>::Zero();
   for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!open.empty() && open[i]) continue;
     const Vec<2> a(v[i][0], v[i][1]), b(v[(i + 1) % v.size()][0], v[(i + 1) % v.size()][1]);
     const Vec<2> e = b - a;
     const double t = std::clamp((x - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
@@ -54,12 +56,16 @@ Vec<3> surface_up(const Geometry& g, const TerrainSurface& s, double x, double y
       s.kind != TerrainSurface::Kind::offset ? s : (&s == &g.top ? g.bottom : g.top);
   if (shaped.kind != TerrainSurface::Kind::raster) return Vec<3>(0.0, 0.0, 1.0);
   const Raster& r = *shaped.raster;
-  auto z = [&](double px, double py) {
-    const double v = r.elevation(px, py);
-    return std::isfinite(v) ? v : r.elevation(x, y);
+  // Central differences over a raster cell, one-sided where a neighbour has no data or is off
+  // the raster's edge.
+  const double z0 = r.elevation(x, y);
+  auto slope = [&](double ex, double ey, double h) {
+    const double zp = r.elevation(x + ex, y + ey), zm = r.elevation(x - ex, y - ey);
+    const bool p = std::isfinite(zp), m = std::isfinite(zm);
+    if (!p && !m) return 0.0;
+    return ((p ? zp : z0) - (m ? zm : z0)) / ((p ? h : 0.0) + (m ? h : 0.0));
   };
-  const double sx = (z(x + r.dx, y) - z(x - r.dx, y)) / (2.0 * r.dx);
-  const double sy = (z(x, y + r.dy) - z(x, y - r.dy)) / (2.0 * r.dy);
+  const double sx = slope(r.dx, 0.0, r.dx), sy = slope(0.0, r.dy, r.dy);
   const Vec<3> up(-sx, -sy, 1.0);
   return std::isfinite(up.squaredNorm()) ? Vec<3>(up / up.norm()) : Vec<3>(0.0, 0.0, 1.0);
 }
@@ -140,10 +146,11 @@ Vec<D> surface_normal(const Geometry& g, const Vec<D>& x) {
       const auto [u, w] = prism_axes(g.axis);
       double best = inf;
       for (int side = 0; side < 2; ++side) {
+        if (g.open_cap[side]) continue;
         const double dist = std::abs(x[g.axis] - (side ? g.max[g.axis] : g.min[g.axis]));
         if (dist < best) best = dist, n.setZero(), n[g.axis] = side ? 1.0 : -1.0;
       }
-      const auto [dist, edge] = nearest_edge(g.vertices, Vec<2>(x[u], x[w]));
+      const auto [dist, edge] = nearest_edge(g.vertices, Vec<2>(x[u], x[w]), g.open_edge);
       if (dist < best) n.setZero(), n[u] = edge[0], n[w] = edge[1];
       return n;
     }
@@ -161,7 +168,7 @@ Vec<D> surface_normal(const Geometry& g, const Vec<D>& x) {
         if (dist < best) best = dist, n = side ? Vec<3>(-up) : up;
       }
       if (g.footprint) {
-        const auto [dist, edge] = nearest_edge(g.vertices, Vec<2>(x[0], x[1]));
+        const auto [dist, edge] = nearest_edge(g.vertices, Vec<2>(x[0], x[1]), g.open_edge);
         if (dist < best) n = Vec<3>(edge[0], edge[1], 0.0);
       }
       return n;

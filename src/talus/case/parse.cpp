@@ -1,5 +1,6 @@
 #include "talus/case/parse.hpp"
 
+#include "talus/case/geometry.hpp"
 #include "talus/case/read_geometry.hpp"
 #include "talus/case/size.hpp"
 #include "talus/case/toml_reader.hpp"
@@ -233,6 +234,23 @@ void read_bodies(TableReader& root, Case& c, InputFiles& files) {
                fmt::format("the body reaches outside the grid along {} ([{}, {}] is not inside "
                            "[{}, {}])",
                            "xyz"[d], lo[d], hi[d], g0, g1));
+    }
+    // A prism's or a terrain's faces on the grid's faces bound nothing (no body can be beyond):
+    // the geometric normal ignores them, so a wall of the grid is not a wall of the body.
+    if (g.kind == Geometry::Kind::prism || (g.kind == Geometry::Kind::terrain && g.footprint)) {
+      const int u = g.kind == Geometry::Kind::prism ? prism_axes(g.axis)[0] : 0;
+      const int w = g.kind == Geometry::Kind::prism ? prism_axes(g.axis)[1] : 1;
+      auto on_face = [&](int d, double v) {
+        return v == c.grid.origin[d] || v == c.grid.origin[d] + c.grid.extent[d];
+      };
+      const auto& v = g.vertices;
+      g.open_edge.assign(v.size(), 0);
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        const auto &a = v[i], &e = v[(i + 1) % v.size()];
+        g.open_edge[i] = (a[0] == e[0] && on_face(u, a[0])) || (a[1] == e[1] && on_face(w, a[1]));
+      }
+      if (g.kind == Geometry::Kind::prism)
+        g.open_cap = {on_face(g.axis, g.min[g.axis]), on_face(g.axis, g.max[g.axis])};
     }
     // Memory, before anything is allocated: this body's particles and velocity field on top of
     // the bodies before it and the grid (its field counted with contact, MUSL's re-map and one

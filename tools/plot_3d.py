@@ -1,0 +1,84 @@
+#!/usr/bin/env python3
+"""Pictures of a 3D run folder (matplotlib, no display needed):
+  3d_frames.png   the bodies in perspective at the given times, deformable bodies coloured by
+                  their displacement, rigid ones grey
+  3d_section.png  a slice across y (the middle of the grid, one particle spacing thick) at the
+                  same times, as the 2D cases are drawn
+
+Usage: plot_3d.py RUN_DIR [--times T ...] [--out DIR] [--every N]
+"""
+import argparse
+import tomllib
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import meshio  # noqa: E402
+import numpy as np  # noqa: E402
+
+ap = argparse.ArgumentParser()
+ap.add_argument("run")
+ap.add_argument("--times", type=float, nargs="+", default=[0.0, 15.0, 45.0])
+ap.add_argument("--out")
+ap.add_argument("--every", type=int, default=4, help="draw every Nth particle in perspective")
+a = ap.parse_args()
+run = Path(a.run)
+out = Path(a.out) if a.out else run / "plots"
+out.mkdir(parents=True, exist_ok=True)
+frames = [(float(e.get("timestep")), e.get("file"))
+          for e in ET.parse(run / "particles.pvd").getroot().iter("DataSet")]
+case = tomllib.loads((run / "case_as_run.toml").read_text())
+rigid = {i for i, b in enumerate(case["body"]) if b.get("rigid", False)}
+
+
+def frame(t):
+    tf, f = min(frames, key=lambda fr: abs(fr[0] - t))
+    return tf, meshio.read(run / f)
+
+
+shots = [frame(t) for t in a.times]
+fig = plt.figure(figsize=(6 * len(shots), 5))
+for k, (tf, m) in enumerate(shots):
+    ax = fig.add_subplot(1, len(shots), k + 1, projection="3d")
+    x = m.points
+    body = m.point_data["body"].ravel().astype(int)
+    disp = np.linalg.norm(m.point_data["displacement"], axis=1) if "displacement" in m.point_data \
+        else np.zeros(len(x))
+    sel = np.arange(len(x)) % a.every == 0
+    hard = sel & np.isin(body, list(rigid))
+    soft = sel & ~np.isin(body, list(rigid))
+    ax.scatter(x[hard, 0], x[hard, 1], x[hard, 2], s=0.2, c="#bbbbbb", linewidths=0)
+    sc = ax.scatter(x[soft, 0], x[soft, 1], x[soft, 2], s=0.4, c=disp[soft], cmap="viridis",
+                    vmin=0, vmax=max(1.0, disp.max()), linewidths=0)
+    ax.set_title(f"t = {tf:.1f} s")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_zlabel("z (m)")
+    ax.set_box_aspect(np.ptp(x, axis=0))
+    ax.view_init(elev=25, azim=-60)
+fig.colorbar(sc, ax=fig.axes, shrink=0.6, label="displacement (m)")
+fig.savefig(out / "3d_frames.png", dpi=110)
+plt.close(fig)
+
+fig, axes = plt.subplots(1, len(shots), figsize=(5 * len(shots), 3.2), squeeze=False)
+for k, (tf, m) in enumerate(shots):
+    x = m.points
+    body = m.point_data["body"].ravel().astype(int)
+    spacing = case["grid"]["cell_size"] / case["body"][0].get("particles_per_cell", 2)
+    y0 = case["grid"].get("origin", [0, 0, 0])[1]  # a row of the lattice near the middle
+    mid = y0 + (np.floor(0.5 * case["grid"]["extent"][1] / spacing) + 0.5) * spacing
+    cut = np.abs(x[:, 1] - mid) < 0.5 * spacing
+    ax = axes[0][k]
+    ax.scatter(x[cut, 0], x[cut, 2], s=1, c=np.where(np.isin(body[cut], list(rigid)), 0.8, 0.2),
+               cmap="gray", vmin=0, vmax=1, linewidths=0)
+    ax.set_title(f"t = {tf:.1f} s, slice y = {mid:.0f} m")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("z (m)")
+fig.tight_layout()
+fig.savefig(out / "3d_section.png", dpi=110)
+plt.close(fig)
+print("wrote", out / "3d_frames.png", out / "3d_section.png")
