@@ -43,11 +43,11 @@ int run_bench(const BenchOptions& opt) {
     if (std::find(opt.problems.begin(), opt.problems.end(), pb.name) == opt.problems.end())
       continue;
     const Case c = parse_case_file(opt.source_dir + "/" + pb.file, pb.overrides);
-    for (const int threads : opt.threads) {
-      set_threads(threads, 0);
+    // One thread count's measurement, in the case's dimension.
+    auto measure = [&]<int D>(int threads) {
       reset_peak_rss();
       const double rss_before = read_rss().now;
-      Simulation<2> sim(c);
+      Simulation<D> sim(c);
       sim.step(); // warm-up: first sort and field allocation
       const PhaseTimes before = sim.phase_times();
       const auto t0 = std::chrono::steady_clock::now();
@@ -84,6 +84,13 @@ int run_bench(const BenchOptions& opt) {
                        {"other", T.other}}},
                      {"peak_rss_bytes_per_particle", bytes},
                      {"process_peak_rss_bytes_per_particle", process_bytes}});
+    };
+    for (const int threads : opt.threads) {
+      set_threads(threads, 0);
+      if (c.simulation.dimension == 3)
+        measure.template operator()<3>(threads);
+      else
+        measure.template operator()<2>(threads);
     }
   }
   if (!opt.json_out.empty()) write_file_atomic(opt.json_out, out.dump(2) + "\n");
