@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <functional>
+#include <gdal_priv.h>
 #include <gtest/gtest.h>
 #include <ogr_spatialref.h>
 
@@ -43,6 +44,9 @@ void write_prj(const std::string& path, int epsg) {
   std::ofstream(path) << wkt;
   CPLFree(wkt);
 }
+
+void expect_refused(const std::string& toml, const std::vector<std::string>& words,
+                    bool at_fill = false);
 
 // A 3D case of one body `shape` on a grid of 0.5 m cells over [0, 40] x [0, 30] x [0, 40].
 std::string terrain_case(const std::string& shape, const std::string& extra = "") {
@@ -176,6 +180,65 @@ TEST(Terrain, TheOriginShiftMovesNothing) {
   EXPECT_EQ(a.x, b.x);
 }
 
+// The same terrain from a GeoTIFF (written here with GDAL) and a GeoJSON footprint, both in a
+// projected system far from the origin, gives the particles of the ESRI grid and the inline
+// footprint; a footprint in another coordinate system than its raster is refused.
+TEST(Terrain, GeoTiffAndGeoJsonReadAsTheGridAndTheInlineFootprint) {
+  const std::string dir = test::temp_dir("terrain_formats");
+  auto top = [](double x, double y) { return 20.0 + 0.1 * x + 0.05 * y; };
+  const double E = 742000.0, N = 5125000.0;
+  write_asc(dir + "/local.asc", 40, 30, 0.0, 0.0, 1.0, top);
+  GDALAllRegister();
+  {
+    GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+    ASSERT_NE(gtiff, nullptr);
+    GDALDatasetUniquePtr ds(
+        gtiff->Create((dir + "/utm.tif").c_str(), 40, 30, 1, GDT_Float32, nullptr));
+    double gt[6] = {E, 1.0, 0.0, N + 30.0, 0.0, -1.0}; // north-up: the first row is the north
+    ds->SetGeoTransform(gt);
+    OGRSpatialReference srs;
+    srs.importFromEPSG(32632);
+    ds->SetSpatialRef(&srs);
+    std::vector<float> z(40 * 30);
+    for (int row = 0; row < 30; ++row)
+      for (int col = 0; col < 40; ++col)
+        z[row * 40 + col] = static_cast<float>(top(col + 0.5, 29 - row + 0.5));
+    ASSERT_EQ(
+        ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 40, 30, z.data(), 40, 30, GDT_Float32, 0, 0),
+        CE_None);
+  }
+  auto geojson = [&](int epsg) {
+    return fmt::format(
+        R"({{"type": "FeatureCollection", "crs": {{"type": "name", "properties": {{"name":
+        "urn:ogc:def:crs:EPSG::{}"}}}}, "features": [{{"type": "Feature", "properties": {{}},
+        "geometry": {{"type": "Polygon", "coordinates": [[[{}, {}], [{}, {}], [{}, {}], [{}, {}]]]}}}}]}})",
+        epsg, E + 5, N + 4, E + 33, N + 6, E + 18, N + 27, E + 5, N + 4);
+  };
+  std::ofstream(dir + "/utm.geojson") << geojson(32632);
+  std::ofstream(dir + "/italy.geojson") << geojson(3003);
+  const Case local = test::case_from(terrain_case(fmt::format(
+      "terrain = {{ top = '{}/local.asc', bottom = 2.0, footprint = [[5, 4], [33, 6], [18, 27]] }}",
+      dir)));
+  const std::string origin = fmt::format("[terrain]\norigin = [{}, {}, 0.0]", E, N);
+  const Case utm =
+      test::case_from(terrain_case(fmt::format("terrain = {{ top = '{0}/utm.tif', bottom = 2.0, "
+                                               "footprint = '{0}/utm.geojson' }}",
+                                               dir),
+                                   origin));
+  const Particles<3> a = fill_particles<3>(local), b = fill_particles<3>(utm);
+  ASSERT_GT(a.size(), 1000u);
+  ASSERT_EQ(a.size(), b.size());
+  double worst = 0.0; // float32 elevations move the top by 1e-6 m, far from any lattice point
+  for (std::size_t p = 0; p < a.size(); ++p)
+    worst = std::max(worst, (a.x[p] - b.x[p]).norm());
+  EXPECT_EQ(worst, 0.0);
+  expect_refused(terrain_case(fmt::format("terrain = {{ top = '{0}/utm.tif', bottom = 2.0, "
+                                          "footprint = '{0}/italy.geojson' }}",
+                                          dir),
+                              origin),
+                 {"terrain.footprint", "coordinate system", "3003", "32632"});
+}
+
 // Cells without data are holes through the body: no particle above them, and the rest whole.
 TEST(Terrain, NoDataCellsAreHoles) {
   const std::string dir = test::temp_dir("terrain_holes");
@@ -258,8 +321,7 @@ TEST(Terrain, SurfaceNormalsOfThePlanesAndWalls) {
 }
 
 // Every input error names the file and what is wrong.
-void expect_refused(const std::string& toml, const std::vector<std::string>& words,
-                    bool at_fill = false) {
+void expect_refused(const std::string& toml, const std::vector<std::string>& words, bool at_fill) {
   try {
     const Case c = test::case_from(toml);
     if (at_fill) fill_particles<3>(c);
