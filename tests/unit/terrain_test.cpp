@@ -350,6 +350,18 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
   write_asc(dir + "/degrees.asc", 40, 30, 0.0, 0.0, 1.0, flat(20.0));
   write_prj(dir + "/degrees.prj", 4326);
   std::ofstream(dir + "/not_a_raster.asc") << "hello\n";
+  {
+    // A float GeoTIFF with a NaN where the file declares no no-data value.
+    GDALAllRegister();
+    GDALDatasetUniquePtr ds(GetGDALDriverManager()->GetDriverByName("GTiff")->Create(
+        (dir + "/nan.tif").c_str(), 2, 2, 1, GDT_Float32, nullptr));
+    double gt[6] = {0.0, 20.0, 0.0, 40.0, 0.0, -20.0};
+    ds->SetGeoTransform(gt);
+    float z[4] = {5.0f, 5.0f, std::nanf(""), 5.0f};
+    ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 2, 2, z, 2, 2, GDT_Float32, 0, 0),
+              CE_None);
+  }
+  write_asc(dir + "/one_cell.asc", 1, 1, 0.0, 0.0, 40.0, flat(5.0));
   const std::string fp = "footprint = [[5, 5], [35, 5], [35, 25], [5, 25]]";
   auto terrain = [&](const std::string& keys) {
     return terrain_case("terrain = { " + keys + " }");
@@ -367,6 +379,10 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
                  {"degrees.asc", "in degrees", "reproject"});
   expect_refused(terrain(fmt::format("top = '{0}/not_a_raster.asc', bottom = 2.0", dir)),
                  {"not_a_raster.asc", "cannot read it as a raster", "terrain.top"});
+  expect_refused(terrain(fmt::format("top = 30.0, bottom = '{0}/nan.tif'", dir)),
+                 {"nan.tif", "row 1, column 0", "nan", "not an elevation"});
+  expect_refused(terrain(fmt::format("top = 30.0, bottom = '{0}/one_cell.asc'", dir)),
+                 {"one_cell.asc", "1 x 1 cells", "at least 2 x 2"});
   expect_refused(terrain(fmt::format("top = '{0}/missing.tif', bottom = 2.0", dir)),
                  {"missing.tif", "cannot read it as a raster"});
   expect_refused(terrain(fmt::format("top = '{0}/crossing.asc', bottom = 20.0", dir)),
