@@ -2,6 +2,7 @@
 
 #include "talus/case/geometry.hpp"
 #include "talus/case/read_geometry.hpp"
+#include "talus/case/run_entries.hpp"
 #include "talus/case/size.hpp"
 #include "talus/case/toml_reader.hpp"
 
@@ -566,58 +567,6 @@ void read_verify(TableReader& root, Case& c) {
     c.verify.full = string_list(rv, "full");
     rv.finish();
   }
-}
-
-// [[run]]: what talus adds to a case as the user wrote it when it copies it into a run folder:
-// the run's --set overrides and the renames of the files it copied into inputs/. Taken out of the
-// document; returns the overrides in order.
-std::vector<std::string> take_run_entries(toml::table& doc, const Where& where, InputFiles& files) {
-  std::vector<std::string> sets;
-  TableReader root(doc, "", where);
-  for_each_entry(root, "run", [&](TableReader& r, std::size_t) {
-    for (std::string& s : string_list(r, "set"))
-      sets.push_back(std::move(s));
-    std::map<std::string, std::string> renames;
-    if (const toml::table* t = r.table("files"))
-      for (auto&& [k, v] : *t) {
-        if (!v.is_string()) r.fail("files", "expected \"name written\" = \"name read\" strings");
-        renames[std::string(k.str())] = v.value<std::string>().value();
-      }
-    files.add_renames(std::move(renames));
-  });
-  doc.erase("run");
-  return sets;
-}
-
-// The case text a run folder keeps: the text as written, then a [[run]] entry with this run's
-// overrides and the renames its copy needs to read inputs/ (none if there is nothing to add).
-std::string text_as_run(std::string text, const std::vector<std::string>& overrides,
-                        const InputFiles& files) {
-  const auto renames = files.renames_to_copies();
-  if (overrides.empty() && renames.empty()) return text;
-  toml::table entry;
-  if (!overrides.empty()) {
-    toml::array set;
-    for (const auto& o : overrides)
-      set.push_back(o);
-    entry.insert("set", std::move(set));
-  }
-  if (!renames.empty()) {
-    toml::table t;
-    for (const auto& [from, to] : renames)
-      t.insert(from, to);
-    entry.insert("files", std::move(t));
-  }
-  toml::array runs;
-  runs.push_back(std::move(entry));
-  toml::table trailer;
-  trailer.insert("run", std::move(runs));
-  if (!text.empty() && text.back() != '\n') text += '\n';
-  std::ostringstream out;
-  out << "\n# Added by talus run: the --set values of the run and where it copied the files it "
-         "read.\n"
-      << trailer << "\n";
-  return text + out.str();
 }
 
 } // namespace

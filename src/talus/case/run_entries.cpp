@@ -1,0 +1,56 @@
+#include "talus/case/run_entries.hpp"
+
+#include <map>
+#include <sstream>
+#include <utility>
+
+namespace talus::case_reading {
+
+std::vector<std::string> take_run_entries(toml::table& doc, const Where& where, InputFiles& files) {
+  std::vector<std::string> sets;
+  TableReader root(doc, "", where);
+  for_each_entry(root, "run", [&](TableReader& r, std::size_t) {
+    for (std::string& s : string_list(r, "set"))
+      sets.push_back(std::move(s));
+    std::map<std::string, std::string> renames;
+    if (const toml::table* t = r.table("files"))
+      for (auto&& [k, v] : *t) {
+        if (!v.is_string()) r.fail("files", "expected \"name written\" = \"name read\" strings");
+        renames[std::string(k.str())] = v.value<std::string>().value();
+      }
+    files.add_renames(std::move(renames));
+  });
+  doc.erase("run");
+  return sets;
+}
+
+std::string text_as_run(std::string text, const std::vector<std::string>& overrides,
+                        const InputFiles& files) {
+  const auto renames = files.renames_to_copies();
+  if (overrides.empty() && renames.empty()) return text;
+  toml::table entry;
+  if (!overrides.empty()) {
+    toml::array set;
+    for (const auto& o : overrides)
+      set.push_back(o);
+    entry.insert("set", std::move(set));
+  }
+  if (!renames.empty()) {
+    toml::table t;
+    for (const auto& [from, to] : renames)
+      t.insert(from, to);
+    entry.insert("files", std::move(t));
+  }
+  toml::array runs;
+  runs.push_back(std::move(entry));
+  toml::table trailer;
+  trailer.insert("run", std::move(runs));
+  if (!text.empty() && text.back() != '\n') text += '\n';
+  std::ostringstream out;
+  out << "\n# Added by talus run: the --set values of the run and where it copied the files it "
+         "read.\n"
+      << trailer << "\n";
+  return text + out.str();
+}
+
+} // namespace talus::case_reading
