@@ -12,7 +12,14 @@ ship:
       rises at DEG degrees over the last B metres on either side (a valley whose flanks close the
       slide in) (cases/vaiont/3d/)
 
-Each cell holds the surface at its centre; the grid's south-west corner is the origin.
+  bowl DEM.asc OUT.asc --centre X Y --axes A B --depth D [--footprint OUT.csv]
+      a failure surface under a ground raster: the ground lowered by the half-ellipsoid
+      D (1 - ((x - X)/A)^2 - ((y - Y)/B)^2) inside the ellipse and equal to it outside, on the
+      ground's own cells (cases/examples/volcano/); --footprint writes the ellipse as a 48-gon
+      CSV (x,y) for the slide's footprint
+
+Each cell holds the surface at its centre; the grid's south-west corner is the origin (plane,
+section; bowl keeps the DEM's).
 """
 import argparse
 import csv
@@ -29,6 +36,19 @@ def write_asc(path, z, x0, y0, cell):
                 "NODATA_value -9999\n")
         for row in z[::-1]:
             f.write(" ".join(f"{v:.4f}" for v in row) + "\n")
+
+
+def read_asc(path):
+    """An ESRI ASCII grid: (z[j, i] with j along y from the south, x0, y0, cell)."""
+    head = {}
+    with open(path) as f:
+        for _ in range(6):
+            k, v = f.readline().split()
+            head[k.lower()] = float(v)
+        z = np.loadtxt(f)[::-1]
+    if "xllcorner" not in head or z.shape != (int(head["nrows"]), int(head["ncols"])):
+        raise SystemExit(f"make_rasters.py: {path} is not an ESRI ASCII grid with corner origin")
+    return z, head["xllcorner"], head["yllcorner"], head["cellsize"]
 
 
 def centres(length, cell):
@@ -52,12 +72,32 @@ s.add_argument("--width", type=float, required=True)
 s.add_argument("--cell", type=float, required=True)
 s.add_argument("--flank", type=float, default=0.0, help="flank slope (degrees), 0: none")
 s.add_argument("--flank-width", type=float, default=0.0)
+b = sub.add_parser("bowl")
+b.add_argument("dem")
+b.add_argument("out")
+b.add_argument("--centre", type=float, nargs=2, required=True)
+b.add_argument("--axes", type=float, nargs=2, required=True)
+b.add_argument("--depth", type=float, required=True)
+b.add_argument("--footprint")
 a = ap.parse_args()
 
 if a.kind == "plane":
     x, y = centres(a.extent[0], a.cell), centres(a.extent[1], a.cell)
     z = a.height - np.tan(math.radians(a.slope)) * x[None, :] + 0.0 * y[:, None]
     write_asc(a.out, z, 0.0, 0.0, a.cell)
+elif a.kind == "bowl":
+    z, x0, y0, cell = read_asc(a.dem)
+    ny, nx = z.shape
+    x, y = x0 + (np.arange(nx) + 0.5) * cell, y0 + (np.arange(ny) + 0.5) * cell
+    r2 = ((x[None, :] - a.centre[0]) / a.axes[0]) ** 2 + ((y[:, None] - a.centre[1]) / a.axes[1]) ** 2
+    write_asc(a.out, z - a.depth * np.maximum(0.0, 1.0 - r2), x0, y0, cell)
+    if a.footprint:
+        with open(a.footprint, "w") as f:
+            f.write("x,y\n")
+            for k in range(48):
+                t = 2.0 * math.pi * k / 48
+                f.write(f"{a.centre[0] + a.axes[0] * math.cos(t):.3f},"
+                        f"{a.centre[1] + a.axes[1] * math.sin(t):.3f}\n")
 else:
     rows = list(csv.DictReader(open(a.section)))
     lines = []

@@ -2,10 +2,11 @@
 """Pictures of a 3D run folder (matplotlib, no display needed):
   3d_frames.png   the bodies in perspective at the given times, deformable bodies coloured by
                   their displacement, rigid ones grey
-  3d_section.png  a slice across y (the middle of the grid, one particle spacing thick) at the
-                  same times, as the 2D cases are drawn
+  3d_section.png  a slice one particle spacing thick at the same times, as the 2D cases are
+                  drawn: across y at the middle of the grid, or at --cut x=VALUE / y=VALUE
+                  (the lattice row nearest it)
 
-Usage: plot_3d.py RUN_DIR [--times T ...] [--out DIR] [--every N]
+Usage: plot_3d.py RUN_DIR [--times T ...] [--out DIR] [--every N] [--cut AXIS=VALUE] [--azim DEG]
 """
 import argparse
 import tomllib
@@ -24,6 +25,8 @@ ap.add_argument("run")
 ap.add_argument("--times", type=float, nargs="+", default=[0.0, 15.0, 45.0])
 ap.add_argument("--out")
 ap.add_argument("--every", type=int, default=4, help="draw every Nth particle in perspective")
+ap.add_argument("--cut", help="the slice: x=VALUE or y=VALUE (default: y at the grid's middle)")
+ap.add_argument("--azim", type=float, default=-60.0, help="perspective azimuth (degrees)")
 a = ap.parse_args()
 run = Path(a.run)
 out = Path(a.out) if a.out else run / "plots"
@@ -51,14 +54,14 @@ for k, (tf, m) in enumerate(shots):
     hard = sel & np.isin(body, list(rigid))
     soft = sel & ~np.isin(body, list(rigid))
     ax.scatter(x[hard, 0], x[hard, 1], x[hard, 2], s=0.2, c="#bbbbbb", linewidths=0)
-    sc = ax.scatter(x[soft, 0], x[soft, 1], x[soft, 2], s=0.4, c=disp[soft], cmap="viridis",
+    sc = ax.scatter(x[soft, 0], x[soft, 1], x[soft, 2], s=0.4 if soft.sum() > 20000 else 3.0, c=disp[soft], cmap="viridis",
                     vmin=0, vmax=max(1.0, disp.max()), linewidths=0)
     ax.set_title(f"t = {tf:.1f} s")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_zlabel("z (m)")
     ax.set_box_aspect(np.ptp(x, axis=0))
-    ax.view_init(elev=25, azim=-60)
+    ax.view_init(elev=25, azim=a.azim)
 fig.colorbar(sc, ax=fig.axes, shrink=0.6, label="displacement (m)")
 fig.savefig(out / "3d_frames.png", dpi=110)
 plt.close(fig)
@@ -68,15 +71,17 @@ for k, (tf, m) in enumerate(shots):
     x = m.points
     body = m.point_data["body"].ravel().astype(int)
     spacing = case["grid"]["cell_size"] / case["body"][0].get("particles_per_cell", 2)
-    y0 = case["grid"].get("origin", [0, 0, 0])[1]  # a row of the lattice near the middle
-    mid = y0 + (np.floor(0.5 * case["grid"]["extent"][1] / spacing) + 0.5) * spacing
-    cut = np.abs(x[:, 1] - mid) < 0.5 * spacing
+    axis, across = (0, 1) if a.cut and a.cut.startswith("x=") else (1, 0)
+    o = case["grid"].get("origin", [0, 0, 0])[axis]
+    at = float(a.cut[2:]) - o if a.cut else 0.5 * case["grid"]["extent"][axis]
+    mid = o + (np.floor(at / spacing) + 0.5) * spacing  # the lattice row nearest the cut
+    cut = np.abs(x[:, axis] - mid) < 0.5 * spacing
     ax = axes[0][k]
-    ax.scatter(x[cut, 0], x[cut, 2], s=1, c=np.where(np.isin(body[cut], list(rigid)), 0.8, 0.2),
+    ax.scatter(x[cut, across], x[cut, 2], s=1, c=np.where(np.isin(body[cut], list(rigid)), 0.8, 0.2),
                cmap="gray", vmin=0, vmax=1, linewidths=0)
-    ax.set_title(f"t = {tf:.1f} s, slice y = {mid:.0f} m")
+    ax.set_title(f"t = {tf:.1f} s, slice {'xy'[axis]} = {mid:.0f} m")
     ax.set_aspect("equal")
-    ax.set_xlabel("x (m)")
+    ax.set_xlabel(f"{'xy'[across]} (m)")
     ax.set_ylabel("z (m)")
 fig.tight_layout()
 fig.savefig(out / "3d_section.png", dpi=110)
