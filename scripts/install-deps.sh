@@ -12,6 +12,7 @@ packages=(
   python3-numpy python3-matplotlib python3-meshio
   python3-vtk9                   # VTK's own reader, in the run-folder test
   chromium                       # the verification report's browser test
+  libopenmpi-dev openmpi-bin     # the mpi preset: domain decomposition over processes
 )
 
 missing=()

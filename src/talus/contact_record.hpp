@@ -6,6 +6,7 @@
 
 #include "talus/math.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -103,6 +104,24 @@ struct ContactRecord {
         interface_force[f].normal += interface_rows_[r * F + f].normal;
       }
     }
+  }
+  // On several processes (parallel/exchange.hpp): only the rows of node planes this process
+  // owns stay (row r is plane first_plane + r), then sum_disjoint adds every process's rows, one
+  // owner per row, so that end() sums the rows one process would form.
+  template <class Owns, class SumDisjoint>
+  void share_rows(std::int64_t first_plane, Owns&& owns, SumDisjoint&& sum_disjoint) {
+    const std::size_t F = interface_force.size();
+    for (std::int64_t r = 0; r < rows_; ++r) {
+      if (owns(first_plane + r)) continue;
+      std::fill_n(force_rows_.begin() + r * B * B, B * B, Vec<D>::Zero());
+      std::fill_n(work_rows_.begin() + r * B, B, 0.0);
+      std::fill_n(interface_rows_.begin() + r * F, F, InterfaceForce{});
+      if (static_cast<std::int64_t>(node_rows_.size()) > r) node_rows_[r].clear();
+    }
+    static_assert(sizeof(Vec<D>) == D * sizeof(double) && sizeof(InterfaceForce) == 3 * sizeof(double));
+    sum_disjoint(force_rows_.data()->data(), force_rows_.size() * D);
+    sum_disjoint(work_rows_.data(), work_rows_.size());
+    sum_disjoint(&interface_rows_.data()->cohesive, interface_rows_.size() * 3);
   }
   // The step's impulses join the time means.
   void accumulate(double dt) {

@@ -6,6 +6,7 @@
 #include "talus/math.hpp"
 
 #include <cstdint>
+#include <tuple>
 #include <vector>
 
 namespace talus {
@@ -45,10 +46,22 @@ struct Particles {
     return b;
   }
 
+  // Every per-particle array, in the order checkpoints store them.
+  static constexpr auto arrays() {
+    return std::make_tuple(&Particles::x, &Particles::x0, &Particles::v, &Particles::m,
+                           &Particles::vol0, &Particles::vol, &Particles::stress, &Particles::F,
+                           &Particles::eps_p, &Particles::id, &Particles::iface,
+                           &Particles::iface_area, &Particles::cohesion, &Particles::friction,
+                           &Particles::slip, &Particles::field, &Particles::pore);
+  }
   template <class Fn>
   void for_each_array(Fn&& f) {
-    f(x), f(x0), f(v), f(m), f(vol0), f(vol), f(stress), f(F), f(eps_p), f(id), f(iface),
-        f(iface_area), f(cohesion), f(friction), f(slip), f(field), f(pore);
+    std::apply([&](auto... a) { (f(this->*a), ...); }, arrays());
+  }
+  // f(a's array, b's array) for every array of two particle sets.
+  template <class Fn>
+  static void for_each_array_pair(Particles& a, Particles& b, Fn&& f) {
+    std::apply([&](auto... m) { (f(a.*m, b.*m), ...); }, arrays());
   }
 
   void reserve(std::size_t n) {

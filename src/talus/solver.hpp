@@ -10,12 +10,14 @@
 #include "talus/grid.hpp"
 #include "talus/nodes.hpp"
 #include "talus/output/checkpoint.hpp"
+#include "talus/parallel/exchange.hpp"
 #include "talus/particles.hpp"
 #include "talus/setup.hpp"
 #include "talus/shape.hpp"
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -64,7 +66,14 @@ public:
     return record_.mean_interface_force(f);
   }
   void reset_force_means() { record_.reset_means(); }
-  std::vector<ContactNodeForce<D>> contact_nodes() const { return record_.nodes(); }
+  std::vector<ContactNodeForce<D>> contact_nodes() const {
+    return gathered_nodes_ ? *gathered_nodes_ : record_.nodes();
+  }
+  // Every process's contact nodes, gathered for output on several processes (nullopt: this
+  // process's own, as on one).
+  void set_gathered_contact_nodes(std::optional<std::vector<ContactNodeForce<D>>> nodes) {
+    gathered_nodes_ = std::move(nodes);
+  }
 
   // Energy budget of body b since release (or the start, without settling), J (per unit thickness
   // in 2D): the work of gravity, of the contact and interface forces (the kinetic energy they add
@@ -110,6 +119,8 @@ public:
   // the particles' offsets).
   const std::vector<std::pair<std::size_t, int>>& pore_entries() const { return pore_entries_; }
   const std::vector<double>& pore_state() const { return pore_state_; }
+  // Each process holds the whole pool; migration and ghosts bring the entries of its particles.
+  std::vector<double>& pore_state_mut() { return pore_state_; }
 
   // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
   const std::vector<std::string>& warnings() const { return warnings_; }
@@ -153,6 +164,24 @@ public:
     drop_held_fields();         // and fixed bodies
     return particles_;
   }
+
+  // On several processes (parallel/distributed.hpp): the exchange the step's collective points
+  // call, and this process's share of the particles (its own and its ghosts, in one process's
+  // order) swapped in and out around each step. `fields_stand`: the share holds the same
+  // particles of every held (fixed) body as before, so their held fields stand.
+  void set_exchange(Exchange* exchange) { exchange_ = exchange; }
+  void replace_particles(Particles<D>&& share, bool fields_stand) {
+    particles_ = std::move(share);
+    invalidate_shape();
+    if (!fields_stand) drop_held_fields();
+    for (std::size_t p = 0; p < particles_.size(); ++p)
+      index_of_id_[particles_.id[p]] = static_cast<std::uint32_t>(p);
+  }
+  Particles<D> take_particles() {
+    invalidate_shape();
+    return std::move(particles_);
+  }
+  int sort_interval() const { return sort_interval_; }
 
   // Whether body b's field is held from an earlier step instead of scattered (a fixed body).
   bool fixed_field_cached(int b) const { return field_held_[b] != 0; }
@@ -250,6 +279,9 @@ private:
   std::vector<double> internal_work_, strain_energy0_; // per body, since release
   static constexpr std::int64_t work_chunk = 1024;     // particles per chunk of the stress work sum
   std::vector<double> chunk_work_;
+  std::vector<double> particle_work_, chunk_work_global_; // with an exchange
+  Exchange* exchange_ = nullptr; // the other processes (parallel/exchange.hpp); null on one
+  std::optional<std::vector<ContactNodeForce<D>>> gathered_nodes_;
   std::vector<ShapeWeights<D>> shape_;
   std::int64_t shape_step_ = -1; // the step whose positions shape_ holds
 

@@ -8,9 +8,7 @@
 // To print the current hashes (after a change that is meant to alter results, with the reason
 // in the commit): TALUS_GOLDEN_PRINT=1 build/release/tests/talus_verification_tests
 // --gtest_filter='Golden*'.
-#include "talus/case/parse.hpp"
-#include "talus/output/checkpoint.hpp"
-#include "talus/solver.hpp"
+#include "verification/golden_cases.hpp"
 
 #include <cstdint>
 #include <cstdlib>
@@ -25,189 +23,17 @@
 #include <vector>
 
 namespace talus {
-namespace {
-
-// FNV-1a 64 over a sequence of byte ranges.
-struct Hash {
-  std::uint64_t h = 14695981039346656037ull;
-  void bytes(const void* data, std::size_t n) {
-    const auto* c = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < n; ++i)
-      h = (h ^ c[i]) * 1099511628211ull;
-  }
-  template <class T>
-  void add(const std::vector<T>& v) {
-    const std::uint64_t n = v.size();
-    bytes(&n, sizeof n);
-    bytes(v.data(), v.size() * sizeof(T));
-  }
-  void add(double x) { bytes(&x, sizeof x); }
-};
-
-// The state's hash: every particle array, the clocks, and the totals the run folder records.
-template <int D>
-std::uint64_t state_hash(const Simulation<D>& sim) {
-  Hash H;
-  auto P = sim.particles(); // for_each_array is non-const
-  // The band offsets (thermal pressurization) join the hash only where a case has bands: a dry
-  // case's arrays are the dry model's, and its band offsets must all be -1.
-  const bool banded = sim.setup().heating;
-  P.for_each_array([&](const auto& a) {
-    if (static_cast<const void*>(&a) != static_cast<const void*>(&P.pore) || banded) H.add(a);
-  });
-  if (!banded)
-    for (const auto o : P.pore)
-      if (o != -1) throw std::logic_error("a band offset in a case without bands");
-  if (banded) H.add(sim.pore_state());
-  H.add(sim.time()), H.add(sim.last_dt()), H.add(static_cast<double>(sim.steps()));
-  const int B = sim.num_bodies();
-  for (int a = 0; a < B; ++a)
-    for (int b = 0; b < B; ++b)
-      for (int d = 0; d < D; ++d)
-        H.add(sim.contact_force(a, b)[d]), H.add(sim.mean_contact_force(a, b)[d]);
-  for (std::size_t f = 0; f < sim.interface_forces().size(); ++f) {
-    const InterfaceForce I = sim.interface_forces()[f], M = sim.mean_interface_force(f);
-    H.add(I.cohesive), H.add(I.frictional), H.add(I.normal);
-    H.add(M.cohesive), H.add(M.frictional), H.add(M.normal);
-  }
-  for (int b = 0; b < B; ++b) {
-    H.add(sim.gravity_work(b)), H.add(sim.contact_work(b)), H.add(sim.internal_work(b));
-    H.add(sim.strain_energy(b)), H.add(sim.strain_energy_at_release(b));
-  }
-  for (const ContactNodeForce<D>& n : sim.contact_nodes()) {
-    for (int d = 0; d < D; ++d)
-      H.add(n.position[d]), H.add(n.force[d]), H.add(n.normal[d]);
-    H.add(n.frictional), H.add(n.cohesive), H.add(static_cast<double>(n.body * 64 + n.other));
-  }
-  H.add(static_cast<double>(sim.orphans()));
-  return H.h;
-}
-
-struct GoldenCase {
-  const char* name;
-  const char* file;
-  std::vector<std::string> overrides;
-  int settle_steps; // damped settling steps before release() (0: none)
-  int steps;        // steps after release
-  std::uint64_t hash;
-};
-
-// Runs the case and returns its hash; `restart_at` > 0 saves the state after that many steps
-// into memory, restores it into a new simulation and finishes the run from there.
-template <int D>
-std::uint64_t run_case(const Case& c, const GoldenCase& g, int restart_at) {
-  auto sim = std::make_unique<Simulation<D>>(c);
-  const int total = g.settle_steps + g.steps;
-  if (g.settle_steps > 0) sim->set_settling(true);
-  for (int s = 0; s < total; ++s) {
-    if (s == restart_at) {
-      SaveArchive out;
-      sim->serialize(out, "memory");
-      sim = std::make_unique<Simulation<D>>(c);
-      LoadArchive in(out.bytes(), "memory");
-      sim->serialize(in, "memory");
-    }
-    if (s == g.settle_steps && g.settle_steps > 0) sim->release();
-    sim->step(1.0);
-  }
-  if (std::getenv("TALUS_GOLDEN_PRINT"))
-    fmt::print("golden {}: {} particles, {} orphans at the end\n", g.name, sim->particles().size(),
-               sim->orphans());
-  return state_hash(*sim);
-}
-
-std::uint64_t run_golden(const GoldenCase& g, int restart_at) {
-  const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/" + g.file, g.overrides);
-  return c.simulation.dimension == 2 ? run_case<2>(c, g, restart_at)
-                                     : run_case<3>(c, g, restart_at);
-}
-
-const std::vector<GoldenCase>& golden_cases() {
-  static const std::vector<GoldenCase> cases = {
-      // One deformable body (Drucker-Prager column) under each scheme and shape function.
-      {"column_usf_linear",
-       "cases/benchmarks/column_collapse.toml",
-       {"grid.cell_size=0.01", "simulation.scheme=\"usf\"", "grid.shape_function=\"linear\""},
-       0,
-       200,
-       0x70f178bdf1cd338aull},
-      {"column_usl_linear",
-       "cases/benchmarks/column_collapse.toml",
-       {"grid.cell_size=0.01", "simulation.scheme=\"usl\"", "grid.shape_function=\"linear\""},
-       0,
-       200,
-       0x1adadf54baff9e48ull},
-      {"column_musl_linear",
-       "cases/benchmarks/column_collapse.toml",
-       {"grid.cell_size=0.01", "simulation.scheme=\"musl\"", "grid.shape_function=\"linear\""},
-       0,
-       200,
-       0x1235aa61b7628022ull},
-      {"column_usf_gimp",
-       "cases/benchmarks/column_collapse.toml",
-       {"grid.cell_size=0.01", "simulation.scheme=\"usf\"", "grid.shape_function=\"gimp\""},
-       0,
-       200,
-       0x69a5206776313974ull},
-      {"column_usl_gimp",
-       "cases/benchmarks/column_collapse.toml",
-       {"grid.cell_size=0.01", "simulation.scheme=\"usl\"", "grid.shape_function=\"gimp\""},
-       0,
-       200,
-       0xda957b94edfd05caull},
-      {"column_musl_gimp",
-       "cases/benchmarks/column_collapse.toml",
-       {"grid.cell_size=0.01", "simulation.scheme=\"musl\"", "grid.shape_function=\"gimp\""},
-       0,
-       200,
-       0x7af061efb7659aceull},
-      // A block on a fixed rigid plane (the held field), with contact-node output.
-      {"sliding_block",
-       "cases/benchmarks/sliding_block.toml",
-       {"contact.0.friction=0.174", "output.contact_nodes=true"},
-       0,
-       200,
-       0x55d975a046d3ca88ull},
-      // A cohesive interface that degrades with slip, after damped settling with the bond held.
-      {"cohesive_block",
-       "cases/benchmarks/cohesive_block.toml",
-       {},
-       60,
-       200,
-       0x6b47e318d15ba92dull},
-      // Three deformable bodies with interfaces, orphans and normal smoothing (the defaults),
-      // K0 stresses and settling, under MUSL.
-      {"vaiont_three",
-       "cases/vaiont/three_bodies.toml",
-       {"grid.cell_size=16", "interface.0.friction.slip=0.02", "interface.0.cohesion.slip=0.02",
-        "output.contact_nodes=true"},
-       50,
-       200,
-       0x290b876c09aa9bc1ull},
-      // The same with the reservoir (buoyant weights, K0 below the level) and thermal
-      // pressurization of the clay layer (the pore pool, its restart).
-      {"vaiont_three_wet",
-       "cases/vaiont/three_bodies_wet.toml",
-       {"grid.cell_size=16", "interface.0.friction.slip=0.02", "interface.0.cohesion.slip=0.02"},
-       50,
-       200,
-       0xf6d13e42358b236bull},
-      // Five bodies: where orphans appear.
-      {"vaiont_five",
-       "cases/vaiont/five_bodies.toml",
-       {"grid.cell_size=16", "initial_state.settle_time=0"},
-       0,
-       200,
-       0x77fea0291f782ba8ull},
-      // The 3D sphere on a rigid plane.
-      {"sphere_3d", "cases/benchmarks/rolling_sphere.toml", {}, 0, 200, 0xaec4d1c5d4948ec1ull},
-  };
-  return cases;
-}
-
+namespace golden {
 void PrintTo(const GoldenCase& g, std::ostream* os) {
   *os << g.name;
 }
+} // namespace golden
+
+namespace {
+
+using golden::GoldenCase;
+using golden::golden_cases;
+using golden::run_golden;
 
 class Golden : public ::testing::TestWithParam<GoldenCase> {};
 

@@ -222,6 +222,10 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
       if (d < 1) break;
     }
   }
+  if (record && exchange_)
+    record_.share_rows(
+        lo[0], [&](std::int64_t i) { return exchange_->owns_plane(i); },
+        [&](double* data, std::size_t n) { exchange_->sum_disjoint(data, n); });
   if (record) record_.end();
 }
 

@@ -32,6 +32,7 @@ double Simulation<D>::compute_time_step() const {
     for (std::int64_t p = begin; p < end; ++p)
       max_speed = std::max(max_speed, wave_speed(p, modulus) + P.v[p].norm());
   }
+  if (exchange_) max_speed = exchange_->max(max_speed); // every process's particles
   const double cfl = settling_ && ts.settle_cfl ? *ts.settle_cfl : ts.cfl;
   return std::min(cfl * grid_.h / max_speed, ts.dt_max);
 }

@@ -78,7 +78,7 @@ void Simulation<D>::sort_particles_by_cell() {
                      [&](std::uint32_t i, std::uint32_t j) { return key[i] < key[j]; });
   std::vector<char> done;
   P.for_each_array([&](auto& a) { permute(a, order, done); });
-  index_of_id_.resize(P.size());
+  index_of_id_.resize(std::max(index_of_id_.size(), P.size())); // a process's share: ids of all
   for (std::size_t p = 0; p < P.size(); ++p)
     index_of_id_[P.id[p]] = static_cast<std::uint32_t>(p);
 }
@@ -164,6 +164,9 @@ void Simulation<D>::fit_body_fields() {
           hi_[f * D + d] = std::max(hi_[f * D + d], P.x[p][d]);
         }
   }
+  // On several processes each box spans every process's particles: the boxes, and with them
+  // the shape weights (relative to the box) and the contact rows, are one process's.
+  if (exchange_) exchange_->min_max(lo_, hi_, B * D);
   for (int b = 0; b < B; ++b) {
     if (field_held_[b]) continue; // its box and sums stand
     const Vec<D> lo = Eigen::Map<const Vec<D>>(lo_ + b * D),
@@ -374,6 +377,10 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
   // on the thread count (chunk sums, then the chunks in order).
   const std::int64_t chunks = (end - begin + work_chunk - 1) / work_chunk;
   if (static_cast<std::int64_t>(chunk_work_.size()) < chunks) chunk_work_.resize(chunks);
+  // On several processes the chunks are of global indices: each particle's work goes to the
+  // exchange, which forms the chunk sums one process would.
+  double* particle_work = nullptr;
+  if (exchange_) particle_work_.resize(P.size()), particle_work = particle_work_.data();
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::int64_t c = 0; c < chunks; ++c) {
     double work = 0.0;
@@ -404,14 +411,22 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
       talus::update_stress(model, P.stress[p], P.eps_p[p], D3, 0.5 * (L3 - L3.transpose()), dt);
       // Stress work over the step, midpoint rule: (V sigma) : D dt.
       const Voigt s = 0.5 * (vol_old * sigma_old + P.vol[p] * P.stress[p]);
-      work += dt * (s[0] * D3(0, 0) + s[1] * D3(1, 1) + s[2] * D3(2, 2) +
-                    2.0 * (s[3] * D3(0, 1) + s[4] * D3(1, 2) + s[5] * D3(0, 2)));
+      const double w = dt * (s[0] * D3(0, 0) + s[1] * D3(1, 1) + s[2] * D3(2, 2) +
+                             2.0 * (s[3] * D3(0, 1) + s[4] * D3(1, 2) + s[5] * D3(0, 2)));
+      work += w;
+      if (particle_work) particle_work[p] = w;
       if (!P.stress[p].allFinite()) detail::record_bad(gone, static_cast<std::size_t>(p));
     }
     chunk_work_[c] = work;
   }
-  for (std::int64_t c = 0; c < chunks; ++c)
-    internal_work_[b] += chunk_work_[c];
+  if (exchange_) {
+    exchange_->chunk_sums(b, begin, end, particle_work, work_chunk, chunk_work_global_);
+    for (const double w : chunk_work_global_)
+      internal_work_[b] += w;
+  } else {
+    for (std::int64_t c = 0; c < chunks; ++c)
+      internal_work_[b] += chunk_work_[c];
+  }
   bad_particle_ = std::min(bad_particle_, gone.load());
   if (const std::size_t p = bad.load(); p != P.size())
     throw SimulationError(fmt::format(

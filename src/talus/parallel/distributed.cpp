@@ -1,0 +1,499 @@
+#include "talus/parallel/distributed.hpp"
+
+#include "talus/parallel/decomposition.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <fmt/format.h>
+#include <numeric>
+#include <type_traits>
+
+namespace talus {
+
+namespace {
+
+template <class T>
+using element_t = typename std::decay_t<T>::value_type;
+
+// Copies a[order[i]] into a new array, for every i.
+template <class T>
+void reorder(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
+  std::vector<T> out(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    out[i] = a[order[i]];
+  a.swap(out);
+}
+
+template <int D>
+void clear_arrays(Particles<D>& P) {
+  P.for_each_array([](auto& a) { a.clear(); });
+}
+
+} // namespace
+
+template <int D>
+Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t rebalance_interval,
+                            Start start)
+    : sim_(sim), comm_(comm), rebalance_interval_(rebalance_interval) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+  const Grid<D>& G = sim_.grid();
+  for (int d = 1; d < D; ++d)
+    cells_per_column_ *= G.cells[d];
+  // Ghosts reach: a node's sum takes the particles of 4 columns (GIMP), contact reads the mass
+  // gradient normal_smoothing columns further, and MUSL's re-map and stress pass, or USF's
+  // stress pass and force scatter, read a second layer of both (6 + smoothing); one more for
+  // the ownership column and one spare.
+  ghost_width_ = 8 + sim_.setup().normal_smoothing;
+  record_bytes_ = sizeof(std::uint32_t);
+  own_.for_each_array([&](auto& a) { record_bytes_ += sizeof(element_t<decltype(a)>); });
+  // The pore pool's entries, in offset order: each runs to the next one.
+  const auto& entries = sim_.pore_entries();
+  pool_size_.assign(sim_.pore_state().size(), 0);
+  for (std::size_t k = 0; k < entries.size(); ++k)
+    pool_size_[entries[k].first] = static_cast<std::uint32_t>(
+        (k + 1 < entries.size() ? entries[k + 1].first : sim_.pore_state().size()) -
+        entries[k].first);
+
+  Particles<D> all = sim_.take_particles();
+  body_begin_ = all.body_begin;
+  std::vector<std::int64_t> counts(static_cast<std::size_t>(G.cells[0]), 0);
+  for (std::size_t p = 0; p < all.size(); ++p)
+    ++counts[owner_column(all.x[p])];
+  if (start == Start::even_columns) std::fill(counts.begin(), counts.end(), 1);
+  bounds_ = slab_bounds(counts, size_, ghost_width_);
+  // Own particles: those of the slab, in the whole state's order (the global index).
+  std::vector<std::uint32_t> mine;
+  for (std::size_t p = 0; p < all.size(); ++p)
+    if (slab_owner(bounds_, owner_column(all.x[p])) == rank_)
+      mine.push_back(static_cast<std::uint32_t>(p));
+  own_.body_begin = all.body_begin;
+  Particles<D>::for_each_array_pair(own_, all, [&](auto& o, auto& a) {
+    o.resize(mine.size());
+    for (std::size_t i = 0; i < mine.size(); ++i)
+      o[i] = a[mine[i]];
+  });
+  own_index_ = mine;
+  own_.body_begin = body_begin_of(own_index_);
+  sim_.set_exchange(this);
+  fields_stand_ = false;
+  build_share();
+}
+
+template <int D>
+std::int64_t Distributed<D>::owner_column(const Vec<D>& x) const {
+  const Grid<D>& G = sim_.grid();
+  return std::clamp<std::int64_t>(G.cell_index(G.cell_of(x)) / cells_per_column_, 0,
+                                  G.cells[0] - 1);
+}
+
+template <int D>
+std::int64_t Distributed<D>::column(const Vec<D>& x) const {
+  const Grid<D>& G = sim_.grid();
+  return std::clamp<std::int64_t>(G.cell_of(x)[0], 0, G.cells[0] - 1);
+}
+
+template <int D>
+std::vector<std::size_t>
+Distributed<D>::body_begin_of(const std::vector<std::uint32_t>& index) const {
+  std::vector<std::size_t> begin(body_begin_.size());
+  for (std::size_t b = 0; b < body_begin_.size(); ++b)
+    begin[b] = static_cast<std::size_t>(
+        std::lower_bound(index.begin(), index.end(), body_begin_[b]) - index.begin());
+  return begin;
+}
+
+template <int D>
+void Distributed<D>::pack(Particles<D>& P, std::size_t p, std::uint32_t g,
+                          std::vector<char>& buf) {
+  auto put = [&](const void* data, std::size_t n) {
+    const std::size_t at = buf.size();
+    buf.resize(at + n);
+    std::memcpy(buf.data() + at, data, n);
+  };
+  put(&g, sizeof g);
+  P.for_each_array([&](auto& a) { put(&a[p], sizeof(element_t<decltype(a)>)); });
+  if (const std::int64_t o = P.pore[p]; o >= 0)
+    put(sim_.pore_state().data() + o, pool_size_[o] * sizeof(double));
+}
+
+template <int D>
+std::size_t Distributed<D>::unpack(const std::vector<char>& buf, std::size_t pos, Particles<D>& P,
+                                   std::vector<std::uint32_t>& index) {
+  std::uint32_t g;
+  std::memcpy(&g, buf.data() + pos, sizeof g);
+  pos += sizeof g;
+  index.push_back(g);
+  P.for_each_array([&](auto& a) {
+    a.emplace_back();
+    std::memcpy(static_cast<void*>(&a.back()), buf.data() + pos, sizeof(element_t<decltype(a)>));
+    pos += sizeof(element_t<decltype(a)>);
+  });
+  if (const std::int64_t o = P.pore.back(); o >= 0) {
+    std::memcpy(sim_.pore_state_mut().data() + o, buf.data() + pos, pool_size_[o] * sizeof(double));
+    pos += pool_size_[o] * sizeof(double);
+  }
+  return pos;
+}
+
+template <int D>
+std::vector<char> Distributed<D>::all_to_all(const std::vector<std::vector<char>>& buffers,
+                                             double& sent) {
+  std::vector<int> send_n(size_), recv_n(size_), send_at(size_, 0), recv_at(size_, 0);
+  for (int q = 0; q < size_; ++q)
+    send_n[q] = static_cast<int>(buffers[q].size()), sent += send_n[q];
+  MPI_Alltoall(send_n.data(), 1, MPI_INT, recv_n.data(), 1, MPI_INT, comm_);
+  std::vector<char> out_buf, in_buf;
+  for (int q = 0; q < size_; ++q) {
+    send_at[q] = static_cast<int>(out_buf.size());
+    out_buf.insert(out_buf.end(), buffers[q].begin(), buffers[q].end());
+  }
+  int total = 0;
+  for (int q = 0; q < size_; ++q)
+    recv_at[q] = total, total += recv_n[q];
+  in_buf.resize(static_cast<std::size_t>(total));
+  MPI_Alltoallv(out_buf.data(), send_n.data(), send_at.data(), MPI_BYTE, in_buf.data(),
+                recv_n.data(), recv_at.data(), MPI_BYTE, comm_);
+  return in_buf;
+}
+
+// Ghosts: every own particle goes to each other process whose slab, widened by ghost_width_
+// columns, holds its column. The share is the own and ghost particles merged by global index.
+template <int D>
+void Distributed<D>::build_share() {
+  std::vector<std::vector<char>> out(size_);
+  for (std::size_t p = 0; p < own_index_.size(); ++p) {
+    const std::int64_t c = column(own_.x[p]);
+    const int q_lo = slab_owner(bounds_, c - ghost_width_);
+    const int q_hi = slab_owner(bounds_, c + ghost_width_);
+    for (int q = q_lo; q <= q_hi; ++q)
+      if (q != rank_ && c >= bounds_[q] - ghost_width_ && c < bounds_[q + 1] + ghost_width_)
+        pack(own_, p, own_index_[p], out[q]);
+  }
+  const std::vector<char> in = all_to_all(out, ghost_bytes_);
+  Particles<D> ghost;
+  ghost.body_begin = body_begin_;
+  std::vector<std::uint32_t> ghost_index;
+  for (std::size_t pos = 0; pos < in.size();)
+    pos = unpack(in, pos, ghost, ghost_index);
+  ghosts_ = ghost_index.size();
+  // Merge by global index: share slot k takes own particle i or ghost j.
+  std::vector<std::uint32_t> g_order(ghost_index.size());
+  std::iota(g_order.begin(), g_order.end(), 0u);
+  std::sort(g_order.begin(), g_order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return ghost_index[a] < ghost_index[b]; });
+  const std::size_t n = own_index_.size() + ghost_index.size();
+  std::vector<std::uint32_t> from(n); // own i as i, ghost j as own count + j
+  share_index_.resize(n);
+  share_own_.resize(n);
+  for (std::size_t k = 0, i = 0, j = 0; k < n; ++k) {
+    const bool take_own = j == g_order.size() ||
+                          (i < own_index_.size() && own_index_[i] < ghost_index[g_order[j]]);
+    if (take_own) {
+      from[k] = static_cast<std::uint32_t>(i), share_index_[k] = own_index_[i++];
+      share_own_[k] = 1;
+    } else {
+      from[k] = static_cast<std::uint32_t>(own_index_.size() + g_order[j]);
+      share_index_[k] = ghost_index[g_order[j++]];
+      share_own_[k] = 0;
+    }
+  }
+  Particles<D> share;
+  const std::uint32_t n_own = static_cast<std::uint32_t>(own_index_.size());
+  Particles<D>::for_each_array_pair(share, own_, [&](auto& s, auto& o) {
+    s.resize(n);
+    for (std::size_t k = 0; k < n; ++k)
+      if (from[k] < n_own) s[k] = o[from[k]];
+  });
+  Particles<D>::for_each_array_pair(share, ghost, [&](auto& s, auto& g) {
+    for (std::size_t k = 0; k < n; ++k)
+      if (from[k] >= n_own) s[k] = g[from[k] - n_own];
+  });
+  share.body_begin = body_begin_of(share_index_);
+  clear_arrays(own_); // the share holds them now (collect_own takes them back)
+  sim_.replace_particles(std::move(share), fields_stand_);
+  fields_stand_ = true;
+}
+
+template <int D>
+void Distributed<D>::collect_own() {
+  Particles<D> share = sim_.take_particles();
+  std::vector<std::uint32_t> keep;
+  for (std::size_t k = 0; k < share_own_.size(); ++k)
+    if (share_own_[k]) keep.push_back(static_cast<std::uint32_t>(k));
+  Particles<D>::for_each_array_pair(own_, share, [&](auto& o, auto& s) {
+    o.resize(keep.size());
+    for (std::size_t i = 0; i < keep.size(); ++i)
+      o[i] = s[keep[i]];
+  });
+  own_index_.resize(keep.size());
+  for (std::size_t i = 0; i < keep.size(); ++i)
+    own_index_[i] = share_index_[keep[i]];
+  own_.body_begin = body_begin_of(own_index_);
+}
+
+template <int D>
+void Distributed<D>::migrate() {
+  std::vector<std::vector<char>> out(size_);
+  std::vector<std::uint32_t> stay;
+  for (std::size_t p = 0; p < own_index_.size(); ++p) {
+    const int q = slab_owner(bounds_, owner_column(own_.x[p]));
+    if (q == rank_)
+      stay.push_back(static_cast<std::uint32_t>(p));
+    else
+      pack(own_, p, own_index_[p], out[q]);
+  }
+  const std::vector<char> in = all_to_all(out, migration_bytes_);
+  Particles<D> arrived;
+  arrived.body_begin = body_begin_;
+  std::vector<std::uint32_t> arrived_index;
+  for (std::size_t pos = 0; pos < in.size();)
+    pos = unpack(in, pos, arrived, arrived_index);
+  if (stay.size() == own_index_.size() && arrived_index.empty()) return;
+  // The staying and the arrived particles merged by global index.
+  std::vector<std::uint32_t> a_order(arrived_index.size());
+  std::iota(a_order.begin(), a_order.end(), 0u);
+  std::sort(a_order.begin(), a_order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return arrived_index[a] < arrived_index[b]; });
+  const std::size_t n = stay.size() + arrived_index.size();
+  const std::uint32_t n_stay = static_cast<std::uint32_t>(stay.size());
+  std::vector<std::uint32_t> from(n), index(n);
+  for (std::size_t k = 0, i = 0, j = 0; k < n; ++k) {
+    if (j == a_order.size() ||
+        (i < stay.size() && own_index_[stay[i]] < arrived_index[a_order[j]])) {
+      from[k] = static_cast<std::uint32_t>(i), index[k] = own_index_[stay[i++]];
+    } else {
+      from[k] = n_stay + a_order[j], index[k] = arrived_index[a_order[j++]];
+    }
+  }
+  Particles<D> merged;
+  Particles<D>::for_each_array_pair(merged, own_, [&](auto& m, auto& o) {
+    m.resize(n);
+    for (std::size_t k = 0; k < n; ++k)
+      if (from[k] < n_stay) m[k] = o[stay[from[k]]];
+  });
+  Particles<D>::for_each_array_pair(merged, arrived, [&](auto& m, auto& a) {
+    for (std::size_t k = 0; k < n; ++k)
+      if (from[k] >= n_stay) m[k] = a[from[k] - n_stay];
+  });
+  own_ = std::move(merged);
+  own_index_ = std::move(index);
+  own_.body_begin = body_begin_of(own_index_);
+}
+
+// One process's sort (Simulation::sort_particles_by_cell, stable by cell within each body) of
+// the own particles; the new global index of each is the count of the body's particles on the
+// processes before this one (whose cells all come first) plus its place here.
+template <int D>
+void Distributed<D>::sort_own() {
+  const Grid<D>& G = sim_.grid();
+  const int B = static_cast<int>(body_begin_.size()) - 1;
+  std::vector<std::int64_t> key(own_index_.size());
+  for (std::size_t p = 0; p < key.size(); ++p)
+    key[p] = G.cell_index(G.cell_of(own_.x[p]));
+  std::vector<std::uint32_t> order(key.size());
+  std::iota(order.begin(), order.end(), 0u);
+  for (int b = 0; b < B; ++b)
+    std::stable_sort(order.begin() + own_.body_begin[b], order.begin() + own_.body_begin[b + 1],
+                     [&](std::uint32_t i, std::uint32_t j) { return key[i] < key[j]; });
+  own_.for_each_array([&](auto& a) { reorder(a, order); });
+  std::vector<std::int64_t> count(B), before(B, 0);
+  for (int b = 0; b < B; ++b)
+    count[b] = static_cast<std::int64_t>(own_.body_begin[b + 1] - own_.body_begin[b]);
+  MPI_Exscan(count.data(), before.data(), B, MPI_INT64_T, MPI_SUM, comm_);
+  if (rank_ == 0) std::fill(before.begin(), before.end(), 0);
+  for (int b = 0; b < B; ++b)
+    for (std::size_t p = own_.body_begin[b]; p < own_.body_begin[b + 1]; ++p)
+      own_index_[p] = static_cast<std::uint32_t>(body_begin_[b] + before[b] +
+                                                 (p - own_.body_begin[b]));
+}
+
+// New slab bounds from the particle count per column; the particles whose slab changed move.
+template <int D>
+void Distributed<D>::rebalance() {
+  std::vector<std::int64_t> counts(static_cast<std::size_t>(sim_.grid().cells[0]), 0);
+  for (std::size_t p = 0; p < own_index_.size(); ++p)
+    ++counts[owner_column(own_.x[p])];
+  MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT64_T, MPI_SUM,
+                comm_);
+  std::vector<std::int64_t> bounds = slab_bounds(counts, size_, ghost_width_);
+  if (bounds == bounds_) return;
+  bounds_ = std::move(bounds);
+  ++rebalances_;
+  migrate();
+  fields_stand_ = false; // the fixed bodies' particles of the share change: rescatter them
+}
+
+template <int D>
+void Distributed<D>::abort_run(const std::exception& e) const {
+  std::fprintf(stderr, "talus: process %d of %d: %s\n", rank_, size_, e.what());
+  std::fflush(stderr);
+  MPI_Abort(comm_, 1);
+  std::abort();
+}
+
+template <int D>
+void Distributed<D>::step(double dt_limit) {
+  try {
+    const std::int64_t step = sim_.steps();
+    const bool rebalance_due = rebalance_interval_ > 0 && step > 0 && step % rebalance_interval_ == 0;
+    const bool sort_due = step % sim_.sort_interval() == 0;
+    if (rebalance_due || sort_due) {
+      collect_own();
+      if (rebalance_due) rebalance();
+      if (sort_due) sort_own();
+      build_share();
+    }
+    // Own particles' positions before the step: none may move more than a cell.
+    const Particles<D>& S = sim_.particles();
+    std::vector<Vec<D>> before;
+    before.reserve(own_index_.size());
+    for (std::size_t k = 0; k < share_own_.size(); ++k)
+      if (share_own_[k]) before.push_back(S.x[k]);
+    sim_.step(dt_limit);
+    const double h = sim_.grid().h;
+    for (std::size_t k = 0, i = 0; k < share_own_.size(); ++k) {
+      if (!share_own_[k]) continue;
+      const Vec<D> dx = sim_.particles().x[k] - before[i++];
+      if (dx.cwiseAbs().maxCoeff() > h)
+        throw SimulationError(fmt::format(
+            "step {}, time {:.6g} s: particle id {} moved {:.4g} m in one step, more than a "
+            "cell ({:.4g} m): reduce the time step (simulation.cfl) or check the case",
+            sim_.steps() - 1, sim_.time(), sim_.particles().id[k], dx.norm(), h));
+    }
+    collect_own();
+    migrate();
+    build_share();
+  } catch (const std::exception& e) {
+    abort_run(e);
+  }
+}
+
+template <int D>
+void Distributed<D>::release() {
+  sim_.release();
+  // The elastic energy at release is a sum over every particle: rank 0 forms it from the whole.
+  with_whole_state([](Simulation<D>& sim) { sim.release(); });
+}
+
+template <int D>
+void Distributed<D>::gather_to_root() {
+  std::vector<char> buf;
+  Particles<D> share = sim_.take_particles();
+  for (std::size_t k = 0; k < share_own_.size(); ++k)
+    if (share_own_[k]) pack(share, k, share_index_[k], buf);
+  const std::vector<ContactNodeForce<D>> nodes = sim_.contact_nodes(); // rows this process owns
+  std::vector<int> n(size_), at(size_, 0), node_n(size_), node_at(size_, 0);
+  const int mine = static_cast<int>(buf.size());
+  const int my_nodes = static_cast<int>(nodes.size() * sizeof(ContactNodeForce<D>));
+  MPI_Gather(&mine, 1, MPI_INT, n.data(), 1, MPI_INT, 0, comm_);
+  MPI_Gather(&my_nodes, 1, MPI_INT, node_n.data(), 1, MPI_INT, 0, comm_);
+  std::vector<char> all, all_nodes;
+  if (rank_ == 0) {
+    for (int q = 1; q < size_; ++q)
+      at[q] = at[q - 1] + n[q - 1], node_at[q] = node_at[q - 1] + node_n[q - 1];
+    all.resize(static_cast<std::size_t>(at[size_ - 1] + n[size_ - 1]));
+    all_nodes.resize(static_cast<std::size_t>(node_at[size_ - 1] + node_n[size_ - 1]));
+  }
+  MPI_Gatherv(buf.data(), mine, MPI_BYTE, all.data(), n.data(), at.data(), MPI_BYTE, 0, comm_);
+  MPI_Gatherv(nodes.data(), my_nodes, MPI_BYTE, all_nodes.data(), node_n.data(), node_at.data(),
+              MPI_BYTE, 0, comm_);
+  if (rank_ != 0) {
+    sim_.replace_particles(std::move(share), true);
+    return;
+  }
+  Particles<D> staged;
+  staged.body_begin = body_begin_;
+  std::vector<std::uint32_t> index;
+  for (std::size_t pos = 0; pos < all.size();)
+    pos = unpack(all, pos, staged, index);
+  std::vector<std::uint32_t> order(index.size());
+  for (std::size_t i = 0; i < index.size(); ++i)
+    order[index[i]] = static_cast<std::uint32_t>(i);
+  staged.for_each_array([&](auto& a) { reorder(a, order); });
+  staged.body_begin = body_begin_;
+  // Contact nodes: every process's own rows, in process order, which is node-plane order.
+  std::vector<ContactNodeForce<D>> every(all_nodes.size() / sizeof(ContactNodeForce<D>));
+  std::memcpy(static_cast<void*>(every.data()), all_nodes.data(), all_nodes.size());
+  parked_share_ = std::move(share);
+  sim_.replace_particles(std::move(staged), true);
+  sim_.set_gathered_contact_nodes(std::move(every));
+}
+
+template <int D>
+void Distributed<D>::restore_share() {
+  if (rank_ != 0) return;
+  sim_.take_particles(); // the whole state goes
+  sim_.replace_particles(std::move(parked_share_), true);
+  sim_.set_gathered_contact_nodes(std::nullopt);
+}
+
+template <int D>
+double Distributed<D>::max(double local) {
+  double out = local;
+  MPI_Allreduce(&local, &out, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return out;
+}
+
+template <int D>
+void Distributed<D>::min_max(double* lo, double* hi, int n) {
+  MPI_Allreduce(MPI_IN_PLACE, lo, n, MPI_DOUBLE, MPI_MIN, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, hi, n, MPI_DOUBLE, MPI_MAX, comm_);
+}
+
+template <int D>
+bool Distributed<D>::owns_plane(std::int64_t i) const {
+  return slab_owner(bounds_, i) == rank_;
+}
+
+template <int D>
+void Distributed<D>::sum_disjoint(double* data, std::size_t n) {
+  MPI_Allreduce(MPI_IN_PLACE, data, static_cast<int>(n), MPI_DOUBLE, MPI_SUM, comm_);
+}
+
+// A chunk whose particles are all here is summed here; one split between processes has each
+// particle's value sent to its place in the chunk, and every process sums it in index order.
+template <int D>
+void Distributed<D>::chunk_sums(int b, std::size_t begin, std::size_t end, const double* value,
+                                std::int64_t chunk, std::vector<double>& sums) {
+  const std::int64_t first = static_cast<std::int64_t>(body_begin_[b]);
+  const std::int64_t n = static_cast<std::int64_t>(body_begin_[b + 1]) - first;
+  const std::int64_t chunks = (n + chunk - 1) / chunk;
+  auto length = [&](std::int64_t c) { return std::min(chunk, n - c * chunk); };
+  std::vector<std::int64_t> here(chunks, 0);
+  for (std::size_t p = begin; p < end; ++p)
+    if (share_own_[p]) ++here[(share_index_[p] - first) / chunk];
+  std::vector<int> whole(chunks);
+  for (std::int64_t c = 0; c < chunks; ++c)
+    whole[c] = here[c] == length(c);
+  MPI_Allreduce(MPI_IN_PLACE, whole.data(), static_cast<int>(chunks), MPI_INT, MPI_MAX, comm_);
+  std::vector<std::int64_t> slot(chunks, -1); // a split chunk's first slot
+  std::int64_t slots = 0;
+  for (std::int64_t c = 0; c < chunks; ++c)
+    if (!whole[c]) slot[c] = slots, slots += length(c);
+  sums.assign(chunks, 0.0);
+  std::vector<double> split(slots, 0.0);
+  for (std::size_t p = begin; p < end; ++p) {
+    if (!share_own_[p]) continue;
+    const std::int64_t g = share_index_[p] - first, c = g / chunk;
+    if (here[c] == length(c))
+      sums[c] += value[p];
+    else
+      split[slot[c] + (g - c * chunk)] = value[p];
+  }
+  sum_disjoint(sums.data(), sums.size());
+  sum_disjoint(split.data(), split.size());
+  for (std::int64_t c = 0; c < chunks; ++c) {
+    if (whole[c]) continue;
+    double s = 0.0;
+    for (std::int64_t k = 0; k < length(c); ++k)
+      s += split[slot[c] + k];
+    sums[c] = s;
+  }
+}
+
+template class Distributed<2>;
+template class Distributed<3>;
+
+} // namespace talus

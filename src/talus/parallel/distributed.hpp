@@ -1,0 +1,118 @@
+// Distributed<D>: one process's part of a run on several (MPI) processes, with results bitwise
+// those of one process (docs/architecture.md, "Processes").
+//
+// The grid is cut into slabs of cell columns along x (decomposition.hpp); a process owns the
+// particles whose cell lies in its slab. Before each step it receives ghost copies of the other
+// processes' particles within ghost_width() columns of its slab, and steps its own and its
+// ghost particles together, in one process's particle order (the global index, which the sort
+// every sort_interval steps reassigns as one process's sort would). Every node an own particle
+// reads is then summed from the same particles in the same order as on one process, so the own
+// particles' new state is one process's; ghosts are dropped after the step and the own particles
+// that left the slab migrate. Nothing is added across processes except through Exchange, whose
+// sums have one contributor per entry.
+#pragma once
+
+#include "talus/parallel/exchange.hpp"
+#include "talus/solver.hpp"
+
+#include <cstdint>
+#include <mpi.h>
+#include <vector>
+
+namespace talus {
+
+template <int D>
+class Distributed final : public Exchange {
+public:
+  // How the first slabs are cut: by the particle count per column, or into equal numbers of
+  // columns (which the first rebalance then corrects: the tests' rebalance inside a run).
+  enum class Start { by_count, even_columns };
+  // `sim` holds the whole state (a new case's, or a checkpoint's): this process keeps its slab.
+  // Slabs are rebalanced from the particle counts every `rebalance_interval` steps (0: never).
+  // Throws DecompositionError if the grid is too narrow for the processes.
+  Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t rebalance_interval = 200,
+              Start start = Start::by_count);
+  Distributed(const Distributed&) = delete;
+  Distributed& operator=(const Distributed&) = delete;
+  ~Distributed() override { sim_.set_exchange(nullptr); }
+
+  // One step on every process (collective). A step that fails on any process stops all of them.
+  void step(double dt_limit = inf);
+  // The end of settling (Simulation::release), with the elastic energy at release of the whole.
+  void release();
+  // Calls f(sim) on rank 0 with the whole state in sim (one process's particle order, the
+  // contact nodes of every process); the other processes wait. Collective.
+  template <class F>
+  void with_whole_state(F&& f) {
+    gather_to_root();
+    if (rank_ == 0) f(sim_);
+    restore_share();
+  }
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  MPI_Comm comm() const { return comm_; }
+  const std::vector<std::int64_t>& bounds() const { return bounds_; }
+  int ghost_width() const { return ghost_width_; }
+  std::int64_t rebalances() const { return rebalances_; }
+  std::size_t own_particles() const { return own_index_.size(); }
+  std::size_t ghost_particles() const { return ghosts_; }
+  // Bytes this process sent since construction: ghost copies, and migrating particles.
+  double ghost_bytes_sent() const { return ghost_bytes_; }
+  double migration_bytes_sent() const { return migration_bytes_; }
+
+  // Exchange (exchange.hpp).
+  double max(double local) override;
+  void min_max(double* lo, double* hi, int n) override;
+  bool owns_plane(std::int64_t i) const override;
+  void sum_disjoint(double* data, std::size_t n) override;
+  void chunk_sums(int b, std::size_t begin, std::size_t end, const double* value,
+                  std::int64_t chunk, std::vector<double>& sums) override;
+
+private:
+  // The column that decides ownership: that of the particle's cell index (x slowest), so that
+  // every process's sort keys lie above the previous process's.
+  std::int64_t owner_column(const Vec<D>& x) const;
+  // The column of the particle's cell, for the ghosts' reach.
+  std::int64_t column(const Vec<D>& x) const;
+  void rebalance();
+  void sort_own();
+  void build_share();
+  void collect_own();
+  void migrate(); // own particles whose owner column left the slab
+  void gather_to_root();
+  void restore_share();
+  // Appends particle p of P (global index g) to buf; unpack appends the record at buf[pos] to P.
+  void pack(Particles<D>& P, std::size_t p, std::uint32_t g, std::vector<char>& buf);
+  std::size_t unpack(const std::vector<char>& buf, std::size_t pos, Particles<D>& P,
+                     std::vector<std::uint32_t>& index);
+  // Sends buffers[q] to process q, returns what every process sent here (concatenated).
+  std::vector<char> all_to_all(const std::vector<std::vector<char>>& buffers, double& sent);
+  // body_begin of particles sorted by global index.
+  std::vector<std::size_t> body_begin_of(const std::vector<std::uint32_t>& index) const;
+  [[noreturn]] void abort_run(const std::exception& e) const;
+
+  Simulation<D>& sim_;
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+  std::int64_t rebalance_interval_;
+  std::vector<std::int64_t> bounds_; // slab bounds in cell columns (size_ + 1)
+  int ghost_width_ = 0;              // columns of ghosts beyond the slab, each side
+  std::int64_t cells_per_column_ = 1;
+  std::vector<std::size_t> body_begin_; // one process's body ranges of the global index
+
+  Particles<D> own_;                     // this process's particles, by global index
+  std::vector<std::uint32_t> own_index_; // their global indices
+  std::vector<std::uint32_t> share_index_; // the share's (own and ghosts) global indices
+  std::vector<char> share_own_;            // 1: own, 0: ghost
+  Particles<D> whole_;                     // rank 0's whole state, during with_whole_state
+  Particles<D> parked_share_;              // the share, parked while whole_ is in sim
+  bool fields_stand_ = true; // the next share holds the same fixed-body particles as the last
+  std::vector<std::uint32_t> pool_size_; // per pore-pool offset: its entry's length (0: none)
+  std::size_t record_bytes_ = 0;
+  std::size_t ghosts_ = 0;
+  std::int64_t rebalances_ = 0;
+  double ghost_bytes_ = 0, migration_bytes_ = 0;
+};
+
+} // namespace talus

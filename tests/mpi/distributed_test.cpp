@@ -1,0 +1,176 @@
+// Runs under mpirun on any number of processes: every golden case (verification/golden_cases.hpp:
+// one and two deformable bodies, contact, cohesive interfaces across the cuts, a fixed body's
+// held field, orphans, the wet Vaiont's pore pool, a 3D case) stepped by Distributed gives the
+// committed hash of one process, with the slabs rebalanced inside the run; and a run on fewer
+// processes, checkpointed mid-way, continues on all of them to the same hash.
+#include "talus/parallel/decomposition.hpp"
+#include "talus/parallel/distributed.hpp"
+#include "verification/golden_cases.hpp"
+
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+namespace talus {
+namespace golden {
+void PrintTo(const GoldenCase& g, std::ostream* os) {
+  *os << g.name;
+}
+} // namespace golden
+
+namespace {
+
+using golden::GoldenCase;
+
+// Slabs start with equal numbers of columns, which the rebalance every 40 steps corrects to
+// equal numbers of particles: the slabs move inside every run.
+constexpr std::int64_t rebalance_every = 40;
+template <int D>
+constexpr auto start = Distributed<D>::Start::even_columns;
+
+int world_rank() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+int world_size() {
+  int n = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+}
+
+struct Outcome {
+  std::uint64_t hash = 0;
+  std::int64_t rebalances = 0; // on world's rank 0
+  std::size_t fewest_own = 0;  // the fewest particles any process owned at the end
+};
+
+// Steps [from, to) of the golden schedule (settling, release, then the run).
+template <int D>
+void advance(Distributed<D>& dist, const GoldenCase& g, int from, int to) {
+  for (int s = from; s < to; ++s) {
+    if (s == g.settle_steps && g.settle_steps > 0) dist.release();
+    dist.step(1.0);
+  }
+}
+
+// The golden hash of the whole state, formed on rank 0 and sent to every process.
+template <int D>
+Outcome finish(Distributed<D>& dist) {
+  Outcome out;
+  dist.with_whole_state([&](Simulation<D>& sim) { out.hash = golden::state_hash(sim); });
+  MPI_Bcast(&out.hash, 1, MPI_UINT64_T, 0, dist.comm());
+  out.rebalances = dist.rebalances();
+  unsigned long own = dist.own_particles(), fewest = 0;
+  MPI_Allreduce(&own, &fewest, 1, MPI_UNSIGNED_LONG, MPI_MIN, dist.comm());
+  out.fewest_own = fewest;
+  return out;
+}
+
+// The case on every process; or, with `split` > 0, its first `split` steps on the first
+// max(size - 1, 1) processes, a checkpoint of the whole state (bytes, as a checkpoint file holds
+// them), and the rest on every process from that checkpoint.
+template <int D>
+Outcome run_distributed(const Case& c, const GoldenCase& g, int split) {
+  const int total = g.settle_steps + g.steps;
+  if (split <= 0) {
+    Simulation<D> sim(c);
+    if (g.settle_steps > 0) sim.set_settling(true);
+    Distributed<D> dist(sim, MPI_COMM_WORLD, rebalance_every, start<D>);
+    advance(dist, g, 0, total);
+    return finish(dist);
+  }
+  const int first_size = std::max(world_size() - 1, 1);
+  MPI_Comm first = MPI_COMM_NULL;
+  MPI_Comm_split(MPI_COMM_WORLD, world_rank() < first_size ? 0 : MPI_UNDEFINED, world_rank(),
+                 &first);
+  std::string bytes;
+  if (first != MPI_COMM_NULL) {
+    Simulation<D> sim(c);
+    if (g.settle_steps > 0) sim.set_settling(true);
+    Distributed<D> dist(sim, first, rebalance_every, start<D>);
+    advance(dist, g, 0, split);
+    dist.with_whole_state([&](Simulation<D>& whole) {
+      SaveArchive ar;
+      whole.serialize(ar, "memory");
+      bytes = ar.bytes();
+    });
+    MPI_Comm_free(&first);
+  }
+  unsigned long n = bytes.size();
+  MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG, 0, MPI_COMM_WORLD);
+  bytes.resize(n);
+  MPI_Bcast(bytes.data(), static_cast<int>(n), MPI_BYTE, 0, MPI_COMM_WORLD);
+  Simulation<D> sim(c);
+  LoadArchive in(bytes, "memory");
+  sim.serialize(in, "memory");
+  Distributed<D> dist(sim, MPI_COMM_WORLD, rebalance_every, start<D>);
+  advance(dist, g, split, total);
+  return finish(dist);
+}
+
+Outcome run_golden_distributed(const GoldenCase& g, int split) {
+  const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/" + g.file, g.overrides);
+  return c.simulation.dimension == 2 ? run_distributed<2>(c, g, split)
+                                     : run_distributed<3>(c, g, split);
+}
+
+class OnProcesses : public ::testing::TestWithParam<GoldenCase> {};
+
+// The same hash as one process, on this many processes, and across a checkpoint written on one
+// process fewer.
+TEST_P(OnProcesses, HashOfOneProcessAndAcrossACheckpointFromFewerProcesses) {
+  const GoldenCase& g = GetParam();
+  const Outcome whole = run_golden_distributed(g, 0);
+  EXPECT_EQ(whole.hash, g.hash) << g.name << fmt::format(": hash 0x{:016x}ull on {} processes",
+                                                         whole.hash, world_size());
+  const Outcome restarted = run_golden_distributed(g, (g.settle_steps + g.steps) / 2 + 1);
+  EXPECT_EQ(restarted.hash, g.hash)
+      << g.name << fmt::format(": continued on {} processes from a checkpoint of {}",
+                               world_size(), std::max(world_size() - 1, 1));
+  if (world_rank() == 0)
+    fmt::print("  {}: {} processes, {} rebalances, fewest own particles {}\n", g.name,
+               world_size(), whole.rebalances, whole.fewest_own);
+  // The column stands in the grid's corner: the even first slabs leave processes without
+  // particles, and the rebalance moves the slabs onto it.
+  if (world_size() > 1 && std::string(g.name).starts_with("column_")) {
+    EXPECT_GT(whole.rebalances, 0) << "no rebalance happened inside the run";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Golden, OnProcesses, ::testing::ValuesIn(golden::golden_cases()),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+// A grid with fewer cell columns than the processes' slabs need is refused, on every process,
+// with the figures.
+TEST(Decomposition, NarrowGridIsRefusedOnEveryProcess) {
+  if (world_size() < 2) GTEST_SKIP() << "one process takes any grid";
+  const std::string file = std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/column_collapse.toml";
+  const Case probe = parse_case_file(file, {});
+  // 2 x ghost width (8 + normal smoothing 1) - 1 columns across the grid's width.
+  const double cell = probe.grid.extent[0] / 17.0;
+  const Case c = parse_case_file(file, {fmt::format("grid.cell_size={:.17g}", cell)});
+  Simulation<2> sim(c);
+  try {
+    Distributed<2> dist(sim, MPI_COMM_WORLD);
+    FAIL() << "a grid of " << sim.grid().cells[0] << " columns was taken";
+  } catch (const DecompositionError& e) {
+    EXPECT_NE(std::string(e.what()).find("cell columns"), std::string::npos) << e.what();
+  }
+}
+
+} // namespace
+} // namespace talus
+
+int main(int argc, char** argv) {
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  ::testing::InitGoogleTest(&argc, argv);
+  if (talus::world_rank() != 0) { // one process reports
+    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+    delete listeners.Release(listeners.default_result_printer());
+  }
+  int failed = RUN_ALL_TESTS();
+  MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Finalize();
+  return failed;
+}
