@@ -6,6 +6,8 @@
 #include "talus/interface.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/files.hpp"
+#include "talus/parallel/decomposition.hpp"
+#include "talus/parallel/processes.hpp"
 #include "talus/run.hpp"
 #include "talus/threads.hpp"
 #include "talus/version.hpp"
@@ -22,6 +24,9 @@
 #include <iostream>
 #include <limits>
 #include <unistd.h>
+#ifdef TALUS_MPI
+#include <mpi.h>
+#endif
 
 namespace {
 
@@ -118,47 +123,73 @@ void inject_faults(talus::RunOptions& opt) {
     opt.inject_signal = sig, opt.inject_signal_step = step;
 }
 
-// Runs, prints the outcome, and maps it to the exit status: 0 completed, 1 failed (physics),
-// 2 bad input or no checkpoint, 3 output error, 128 + signal when interrupted.
+// Runs, prints the outcome (rank 0 of several processes), and maps it to the exit status:
+// 0 completed, 1 failed (physics), 2 bad input or no checkpoint, 3 output error, 128 + signal
+// when interrupted.
 template <class F>
 int run_and_report(F&& go) {
+  const bool says = talus::process_rank() == 0;
+  auto say = [&](std::FILE* to, const std::string& text) {
+    if (says) fmt::print(to, "{}\n", text);
+  };
   try {
     const talus::RunResult r = go();
     if (r.status == "interrupted") {
-      fmt::print(stderr, "talus: {}\n", r.message);
+      say(stderr, "talus: " + r.message);
       return 128 + r.signal;
     }
     if (r.status == "stopped") {
-      fmt::print("talus: {}\n", r.message);
+      say(stdout, "talus: " + r.message);
       return 0;
     }
     if (r.status != "completed") {
-      fmt::print(stderr, "error: run {}: {}\n", r.status, r.message);
+      say(stderr, fmt::format("error: run {}: {}", r.status, r.message));
       return 1;
     }
-    fmt::print("done: {} steps, {:.4g} s simulated, {:.1f} s wall, {:.3g} particle-updates/s\n",
-               r.steps, r.simulated_time, r.wall_seconds, r.particle_updates_per_second);
+    say(stdout,
+        fmt::format("done: {} steps, {:.4g} s simulated, {:.1f} s wall, {:.3g} particle-updates/s",
+                    r.steps, r.simulated_time, r.wall_seconds, r.particle_updates_per_second));
   } catch (const talus::OutputError& e) {
-    fmt::print(stderr, "error: output: {}\n", e.what());
+    say(stderr, fmt::format("error: output: {}", e.what()));
     return 3;
   } catch (const talus::CaseError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    say(stderr, fmt::format("error: {}", e.what()));
     return 2;
   } catch (const talus::CheckpointError& e) {
-    fmt::print(stderr, "error: restart: {}\n", e.what());
+    say(stderr, fmt::format("error: restart: {}", e.what()));
     return 2;
   } catch (const talus::RunFolderError& e) {
-    fmt::print(stderr, "error: run folder: {}\n", e.what());
+    say(stderr, fmt::format("error: run folder: {}", e.what()));
+    return 2;
+  } catch (const talus::DecompositionError& e) {
+    say(stderr, fmt::format("error: processes: {}", e.what()));
     return 2;
   }
   return 0;
 }
+
+#ifdef TALUS_MPI
+// MPI for the life of the program (one process without mpirun); OpenMP threads run inside each
+// process, and only the main thread calls MPI.
+struct MpiSession {
+  MpiSession(int* argc, char*** argv) {
+    int provided = 0;
+    MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+  }
+  ~MpiSession() { MPI_Finalize(); }
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+};
+#endif
 
 } // namespace
 
 int main(int argc, char** argv) {
   talus::share_cores(argv);      // idle OpenMP threads sleep: runs side by side do not collapse
   std::signal(SIGXFSZ, SIG_IGN); // a full file-size limit becomes a write error, not a kill
+#ifdef TALUS_MPI
+  MpiSession mpi(&argc, &argv);
+#endif
   CLI::App app{"Talus: multi-body Material Point Method for landslides"};
   app.set_version_flag("--version", std::string("talus ") + talus::version);
   app.require_subcommand(1);
@@ -271,7 +302,7 @@ int main(int argc, char** argv) {
     opt.out_dir = restart_dir;
     opt.threads = threads;
     if (max_steps >= 0) opt.max_steps = max_steps;
-    opt.log = &std::cout;
+    opt.log = talus::process_rank() == 0 ? &std::cout : nullptr;
     inject_faults(opt);
     return run_and_report([&] { return talus::restart_run(opt); });
   }
@@ -305,7 +336,7 @@ int main(int argc, char** argv) {
   opt.threads = threads;
   if (max_steps >= 0) opt.max_steps = max_steps;
   opt.overwrite = overwrite;
-  opt.log = &std::cout;
+  opt.log = talus::process_rank() == 0 ? &std::cout : nullptr;
   inject_faults(opt);
   return run_and_report([&] { return talus::run_case(c, opt); });
 }

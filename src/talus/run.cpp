@@ -3,6 +3,7 @@
 #include "talus/case/parse.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/run_writer.hpp"
+#include "talus/parallel/processes.hpp"
 #include "talus/solver.hpp"
 #include "talus/threads.hpp"
 
@@ -15,6 +16,9 @@
 #include <iterator>
 #include <optional>
 #include <unistd.h>
+#ifdef TALUS_MPI
+#include "talus/parallel/distributed.hpp"
+#endif
 
 namespace talus {
 
@@ -88,6 +92,16 @@ nlohmann::json energy_budget(const Simulation<D>& sim, int b) {
           {"unbalanced_J", gravity + contact - internal - ke}};
 }
 
+// What the results monitor tracks of one step, formed on one process or over several (Runner::
+// step_figures): per probe its particle's speed, per interface its particles' largest pore
+// pressure and band temperature (-inf: none), and the results body's sums of m and m |v| (in
+// chunks of particle order, as Distributed::chunk_sums forms them).
+struct StepFigures {
+  std::vector<double> probe_speed, pore_peak, temperature_peak;
+  double mass = 0.0, mass_speed = 0.0;
+};
+constexpr std::int64_t figure_chunk = 1024; // particles per chunk of the body sums
+
 // The headline figures of a run (ResultsSpec), tracked every step.
 template <int D>
 class ResultsMonitor {
@@ -100,26 +114,21 @@ public:
     if (body_ >= 0) centroid0_ = centroid(sim);
   }
 
-  void update(const Simulation<D>& sim) {
-    const auto& P = sim.particles();
+  int body() const { return body_; }
+  std::vector<std::uint32_t>& probe_ids() { return probe_ids_; }
+
+  void update(const StepFigures& f, double time, double stop_speed) {
     for (std::size_t k = 0; k < probe_ids_.size(); ++k)
-      probe_peak_[k] = std::max(probe_peak_[k], P.v[sim.index_of(probe_ids_[k])].norm());
+      probe_peak_[k] = std::max(probe_peak_[k], f.probe_speed[k]);
     // The interfaces' largest excess pore pressure and band temperature so far.
-    for (const auto& [offset, f] : sim.pore_entries()) {
-      const InterfaceSpec& spec = sim.setup().interfaces[f];
-      const double* s = &sim.pore_state()[offset];
-      pore_peak_[f] = std::max(pore_peak_[f], spec.pore_pressure + s[1]);
-      if (spec.thermal_pressurization)
-        temperature_peak_[f] =
-            std::max(temperature_peak_[f], spec.thermal_pressurization->temperature + s[0]);
+    for (std::size_t i = 0; i < pore_peak_.size(); ++i) {
+      pore_peak_[i] = std::max(pore_peak_[i], f.pore_peak[i]);
+      temperature_peak_[i] = std::max(temperature_peak_[i], f.temperature_peak[i]);
     }
     if (body_ < 0) return;
-    double m = 0.0, ms = 0.0;
-    for (std::size_t p = P.body_begin[body_]; p < P.body_begin[body_ + 1]; ++p)
-      m += P.m[p], ms += P.m[p] * P.v[p].norm();
-    const double speed = ms / m;
-    if (speed > peak_) peak_ = speed, peak_time_ = sim.time();
-    if (speed >= sim.case_().results.stop_speed) last_moving_ = sim.time();
+    const double speed = f.mass_speed / f.mass;
+    if (speed > peak_) peak_ = speed, peak_time_ = time;
+    if (speed >= stop_speed) last_moving_ = time;
     last_speed_ = speed;
   }
 
@@ -219,7 +228,8 @@ private:
 template <int D>
 class Runner {
 public:
-  Runner(const Case& c, const RunOptions& opt) : c_(c), opt_(opt), sim_(c) {}
+  Runner(const Case& c, const RunOptions& opt)
+      : c_(c), opt_(opt), sim_(c), root_(process_rank() == 0) {}
 
   RunResult run(LoadArchive* restore, const std::string& restored_from) {
     const auto wall0 = wall0_ = Clock::now();
@@ -235,10 +245,13 @@ public:
     } else if (c_.initial_state.settle_time > 0.0) {
       sim_.set_settling(true);
     }
+    distribute();
     if (opt_.log)
       *opt_.log << fmt::format(
-          "talus: {} particles, {} nodes, {} threads -> {}{}\n", r.particles,
-          sim_.grid().num_nodes(), threads, opt_.out_dir,
+          "talus: {} particles, {} nodes, {}{} threads -> {}{}\n", r.particles,
+          sim_.grid().num_nodes(),
+          process_count() > 1 ? fmt::format("{} processes x ", process_count()) : "", threads,
+          opt_.out_dir,
           restore ? fmt::format(" (restarted at step {}, {} {:.6g} s)", sim_.steps(),
                                 sim_.settling() ? "settling" : "time", sim_.time())
                   : "");
@@ -272,23 +285,153 @@ public:
   void serialize(Ar& ar) {
     sim_.serialize(ar, opt_.out_dir);
     ar.io(settle_ke_), ar.io(stepping_), ar.io(frame_);
-    bool started = writer_.has_value();
+    bool started = monitor_.has_value();
     ar.io(started);
     if (!started) return;
-    start_output();
-    writer_->serialize(ar);
+    if (!monitor_) start_output(); // restoring: every process, on the whole state
+    if (writer_) {
+      writer_->serialize(ar);
+    } else { // a process that writes nothing reads past the writer's tables
+      RunWriter<D> tables;
+      tables.serialize(ar);
+    }
     monitor_->serialize(ar);
   }
 
 private:
+  // The writer (rank 0) and the monitor (every process: its step figures are collective), both
+  // made from the whole state; the probes' particles are rank 0's choice.
   void start_output() {
-    if (!writer_) writer_.emplace(opt_.out_dir, sim_);
+    whole([&](Simulation<D>& s) {
+      if (!writer_) writer_.emplace(opt_.out_dir, s);
+      if (!monitor_) monitor_.emplace(s);
+    });
     if (!monitor_) monitor_.emplace(sim_);
+#ifdef TALUS_MPI
+    if (process_count() > 1)
+      MPI_Bcast(monitor_->probe_ids().data(), static_cast<int>(monitor_->probe_ids().size()),
+                MPI_UINT32_T, 0, MPI_COMM_WORLD);
+#endif
+  }
+
+  // Calls f(sim) with the whole state: on one process, sim_ itself; on several, on rank 0 while
+  // the others wait (Distributed::with_whole_state). Collective.
+  template <class F>
+  void whole(F&& f) {
+#ifdef TALUS_MPI
+    if (dist_) { // an output error on rank 0 stops every process
+      int failed = 0;
+      std::string error;
+      dist_->with_whole_state([&](Simulation<D>& s) {
+        try {
+          f(s);
+        } catch (const OutputError& e) {
+          failed = 1, error = e.what();
+        }
+      });
+      MPI_Bcast(&failed, 1, MPI_INT, 0, MPI_COMM_WORLD);
+      if (!failed) return;
+      int n = static_cast<int>(error.size());
+      MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
+      error.resize(static_cast<std::size_t>(n));
+      MPI_Bcast(error.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
+      throw OutputError(error);
+    }
+#endif
+    if (root_) f(sim_);
+  }
+
+  // On several processes, each process keeps its slab of the particles from here on.
+  void distribute() {
+#ifdef TALUS_MPI
+    if (process_count() > 1) dist_ = std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD);
+#endif
+  }
+
+  // The largest of every process's value (one process: the value).
+  int agree_max(int value) const {
+#ifdef TALUS_MPI
+    if (dist_) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+#endif
+    return value;
+  }
+
+  // The step's figures for the monitor (StepFigures), from this process's own particles and,
+  // on several processes, a max or a chunk sum over all of them: the same bits on any number.
+  StepFigures step_figures() {
+    const auto& P = sim_.particles();
+    const auto& ids = monitor_->probe_ids();
+    const std::size_t F = sim_.setup().interfaces.size();
+    StepFigures f;
+    f.probe_speed.assign(ids.size(), 0.0);
+    f.pore_peak.assign(F, -inf), f.temperature_peak.assign(F, -inf);
+    auto own = [&](std::size_t p) {
+#ifdef TALUS_MPI
+      if (dist_) return dist_->is_own(p);
+#endif
+      (void)p;
+      return true;
+    };
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      if (const std::size_t p = sim_.index_of(ids[k]); p < P.size() && P.id[p] == ids[k] && own(p))
+        f.probe_speed[k] = P.v[p].norm();
+    for (std::size_t p = 0; p < P.size(); ++p) {
+      if (P.pore[p] < 0 || !own(p)) continue;
+      const int i = P.iface[p];
+      const InterfaceSpec& spec = sim_.setup().interfaces[i];
+      const double* s = &sim_.pore_state()[P.pore[p]];
+      f.pore_peak[i] = std::max(f.pore_peak[i], spec.pore_pressure + s[1]);
+      if (spec.thermal_pressurization)
+        f.temperature_peak[i] =
+            std::max(f.temperature_peak[i], spec.thermal_pressurization->temperature + s[0]);
+    }
+    if (const int b = monitor_->body(); b >= 0) {
+      const std::size_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+      mass_.resize(P.size()), mass_speed_.resize(P.size());
+      for (std::size_t p = begin; p < end; ++p)
+        mass_[p] = P.m[p], mass_speed_[p] = P.m[p] * P.v[p].norm();
+      f.mass = chunked_sum(b, begin, end, mass_), f.mass_speed = chunked_sum(b, begin, end, mass_speed_);
+    }
+#ifdef TALUS_MPI
+    if (dist_) {
+      auto max_all = [](std::vector<double>& v) {
+        MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_MAX,
+                      MPI_COMM_WORLD);
+      };
+      max_all(f.probe_speed), max_all(f.pore_peak), max_all(f.temperature_peak);
+    }
+#endif
+    return f;
+  }
+
+  // The sum of value[begin, end) (body b), in chunks of figure_chunk particles in particle order
+  // and then the chunks in order.
+  double chunked_sum(int b, std::size_t begin, std::size_t end, const std::vector<double>& value) {
+    std::vector<double>& sums = chunk_sums_;
+#ifdef TALUS_MPI
+    if (dist_) {
+      dist_->chunk_sums(b, begin, end, value.data(), figure_chunk, sums);
+    } else
+#endif
+    {
+      (void)b;
+      sums.clear();
+      for (std::size_t c = begin; c < end; c += figure_chunk) {
+        double s = 0.0;
+        for (std::size_t p = c; p < std::min(end, c + figure_chunk); ++p)
+          s += value[p];
+        sums.push_back(s);
+      }
+    }
+    double total = 0.0;
+    for (const double s : sums)
+      total += s;
+    return total;
   }
 
   // A row in every CSV (forces as time means since the previous row) and a frame.
   void write_frame() {
-    writer_->write_frame(sim_);
+    whole([&](Simulation<D>& s) { writer_->write_frame(s); });
     sim_.reset_force_means();
     write_running_summary();
   }
@@ -300,18 +443,25 @@ private:
     const double wall = std::chrono::duration<double>(Clock::now() - wall0_).count();
     const std::string message =
         last_checkpoint_.empty() ? std::string() : "newest checkpoint: " + last_checkpoint_;
-    const nlohmann::json results =
-        monitor_ ? monitor_->json(sim_, settle_ke_) : nlohmann::json::object();
-    if (writer_)
-      writer_->write_summary(sim_, "running", wall, stepping_, threads_, message, results);
-    else
-      RunWriter<D>(opt_.out_dir, sim_)
-          .write_summary(sim_, "running", wall, stepping_, threads_, message, results);
+    whole([&](Simulation<D>& s) {
+      const nlohmann::json results =
+          monitor_ ? monitor_->json(s, settle_ke_) : nlohmann::json::object();
+      if (writer_)
+        writer_->write_summary(s, "running", wall, stepping_, threads_, message, results);
+      else
+        RunWriter<D>(opt_.out_dir, s)
+            .write_summary(s, "running", wall, stepping_, threads_, message, results);
+    });
   }
 
   void timed_step(double dt_limit) {
     const auto t0 = Clock::now();
-    sim_.step(dt_limit);
+#ifdef TALUS_MPI
+    if (dist_)
+      dist_->step(dt_limit);
+    else
+#endif
+      sim_.step(dt_limit);
     stepping_ += std::chrono::duration<double>(Clock::now() - t0).count();
   }
 
@@ -348,11 +498,16 @@ private:
 
   // The end of settling: time restarts at 0, the run folder starts with its first frame.
   void release() {
-    settle_ke_ = kinetic_energy();
+    whole([&](Simulation<D>&) { settle_ke_ = kinetic_energy(); });
     if (opt_.log)
       *opt_.log << fmt::format("talus: settled for {} s, kinetic energy {:.4g} J; released\n",
                                c_.initial_state.settle_time, settle_ke_);
-    sim_.release();
+#ifdef TALUS_MPI
+    if (dist_)
+      dist_->release();
+    else
+#endif
+      sim_.release();
     start_output();
     write_frame();
   }
@@ -365,7 +520,7 @@ private:
     while (end - sim_.time() > 1e-12 * end) {
       const double next_output = std::min(end, every * static_cast<double>(frame_));
       timed_step(next_output - sim_.time());
-      monitor_->update(sim_);
+      monitor_->update(step_figures(), sim_.time(), c_.results.stop_speed);
       if (sim_.time() >= next_output - 1e-12 * end) {
         write_frame();
         ++frame_;
@@ -380,13 +535,15 @@ private:
   // signal (a checkpoint, then stop: false), a checkpoint when its simulated or wall time is due.
   bool after_step(RunResult& r) {
     if (sim_.steps() == opt_.inject_signal_step) std::raise(opt_.inject_signal);
-    if (stop_signal) {
+    // Every process stops, and checkpoints, when any one is told to (mpirun passes signals on).
+    const int stop = agree_max(stop_signal);
+    if (stop) {
       save_checkpoint();
       r.status = "interrupted";
-      r.signal = stop_signal;
+      r.signal = stop;
       r.message = fmt::format("stopped by signal {} at step {}, time {:.6g} s; checkpoint {}; "
                               "continue with: talus run --restart {}",
-                              static_cast<int>(stop_signal), sim_.steps(), sim_.time(),
+                              stop, sim_.steps(), sim_.time(),
                               last_checkpoint_, opt_.out_dir);
       return false;
     }
@@ -404,9 +561,9 @@ private:
     // By wall time: every wall_minutes, the first after at most first_wall_minutes.
     const double minutes =
         checkpoints_written_ == 0 ? std::min(first_wall_minutes, ck.wall_minutes) : ck.wall_minutes;
-    const bool wall_due =
+    const bool wall_due = agree_max(
         ck.wall_minutes > 0 &&
-        std::chrono::duration<double>(Clock::now() - checkpoint_wall_).count() >= 60.0 * minutes;
+        std::chrono::duration<double>(Clock::now() - checkpoint_wall_).count() >= 60.0 * minutes);
     if (sim_.time() >= checkpoint_time_ - 1e-12 * checkpoint_time_ || wall_due) {
       save_checkpoint();
       checkpoint_time_ = next_checkpoint(ck);
@@ -429,27 +586,31 @@ private:
     return ke;
   }
 
+  // The whole state, written by rank 0: a checkpoint restarts on any number of processes.
   void save_checkpoint() {
     const auto t0 = Clock::now();
-    sim_.check_particles(); // a checkpoint is a good state, or none is written
-    SaveArchive ar;
-    int dim = D;
-    std::string file = std::filesystem::absolute(c_.file).string(), text = c_.text;
-    ar.io(dim), ar.io(file), ar.io(text);
-    serialize(ar);
-    std::error_code ec;
-    std::filesystem::create_directories(opt_.out_dir + "/checkpoints", ec);
-    if (ec)
-      throw OutputError(
-          fmt::format("{}/checkpoints: cannot create: {}", opt_.out_dir, ec.message()));
     const std::string path = checkpoint_path(opt_.out_dir, sim_.steps());
-    write_checkpoint_file(path, ar.bytes());
-    prune_checkpoints(opt_.out_dir, c_.checkpoint.keep);
+    double bytes = 0.0;
+    whole([&](Simulation<D>& s) {
+      s.check_particles(); // a checkpoint is a good state, or none is written
+      SaveArchive ar;
+      int dim = D;
+      std::string file = std::filesystem::absolute(c_.file).string(), text = c_.text;
+      ar.io(dim), ar.io(file), ar.io(text);
+      serialize(ar);
+      std::error_code ec;
+      std::filesystem::create_directories(opt_.out_dir + "/checkpoints", ec);
+      if (ec)
+        throw OutputError(
+            fmt::format("{}/checkpoints: cannot create: {}", opt_.out_dir, ec.message()));
+      write_checkpoint_file(path, ar.bytes());
+      prune_checkpoints(opt_.out_dir, c_.checkpoint.keep);
+      bytes = static_cast<double>(ar.bytes().size());
+    });
     last_checkpoint_ = path;
     ++checkpoints_written_;
     if (opt_.log && !progress_tty())
-      *opt_.log << fmt::format("talus: checkpoint {} ({:.1f} MB, {:.2f} s)\n", path,
-                               static_cast<double>(ar.bytes().size()) / 1e6,
+      *opt_.log << fmt::format("talus: checkpoint {} ({:.1f} MB, {:.2f} s)\n", path, bytes / 1e6,
                                std::chrono::duration<double>(Clock::now() - t0).count());
   }
   // Whether the progress goes to a terminal (its line is redrawn: no checkpoint lines there).
@@ -462,14 +623,21 @@ private:
     r.particle_updates_per_second =
         stepping_ > 0 ? static_cast<double>(r.particles) * static_cast<double>(r.steps) / stepping_
                       : 0.0;
-    if (!writer_) writer_.emplace(opt_.out_dir, sim_);
-    writer_->write_summary(sim_, r.status, r.wall_seconds, stepping_, threads, r.message,
-                           monitor_ ? monitor_->json(sim_, settle_ke_) : nlohmann::json::object());
+    whole([&](Simulation<D>& s) {
+      if (!writer_) writer_.emplace(opt_.out_dir, s);
+      writer_->write_summary(s, r.status, r.wall_seconds, stepping_, threads, r.message,
+                             monitor_ ? monitor_->json(s, settle_ke_) : nlohmann::json::object());
+    });
   }
 
   const Case& c_;
   const RunOptions& opt_;
   Simulation<D> sim_;
+  bool root_; // rank 0: the process that writes the run folder
+#ifdef TALUS_MPI
+  std::unique_ptr<Distributed<D>> dist_; // on several processes: this one's slab
+#endif
+  std::vector<double> mass_, mass_speed_, chunk_sums_; // step_figures' scratch
   std::optional<RunWriter<D>> writer_;
   std::optional<ResultsMonitor<D>> monitor_;
   double settle_ke_ = 0.0;
@@ -490,11 +658,10 @@ RunResult run_dim(const Case& c, const RunOptions& opt, LoadArchive* restore = n
   return runner.run(restore, restored_from);
 }
 
-} // namespace
-
-RunResult run_case(const Case& c, const RunOptions& opt) {
-  // The files the case read go into inputs/, read before the folder is emptied (the case may be
-  // an earlier run's own case.toml, run again into its folder with --overwrite).
+// The run folder, and in its inputs/ the files the case read, read before the folder is
+// emptied (the case may be an earlier run's own case.toml, run again into its folder with
+// --overwrite).
+void prepare_inputs(const Case& c, const RunOptions& opt) {
   std::vector<std::string> inputs;
   for (const InputFile& f : c.inputs) {
     std::ifstream in(f.source, std::ios::binary);
@@ -514,6 +681,12 @@ RunResult run_case(const Case& c, const RunOptions& opt) {
   }
   for (std::size_t i = 0; i < c.inputs.size(); ++i)
     write_file_atomic(opt.out_dir + "/" + c.inputs[i].copy, inputs[i]);
+}
+
+} // namespace
+
+RunResult run_case(const Case& c, const RunOptions& opt) {
+  on_rank_zero([&] { prepare_inputs(c, opt); });
   return c.simulation.dimension == 2 ? run_dim<2>(c, opt) : run_dim<3>(c, opt);
 }
 

@@ -13,6 +13,8 @@ namespace talus {
 template <int D>
 class RunWriter {
 public:
+  // A writer that writes nothing: reads a checkpoint's tables on a process that does not write.
+  RunWriter() = default;
   RunWriter(std::string dir, const Simulation<D>& sim);
 
   // Appends a row to the CSVs and, if enabled, writes particles_NNNNNN.vtu and particles.pvd,

@@ -56,6 +56,8 @@ public:
   int ghost_width() const { return ghost_width_; }
   std::int64_t rebalances() const { return rebalances_; }
   std::size_t own_particles() const { return own_index_.size(); }
+  // Whether particle p of the share in sim is this process's own (not a ghost copy).
+  bool is_own(std::size_t p) const { return share_own_[p] != 0; }
   std::size_t ghost_particles() const { return ghosts_; }
   // Bytes this process sent since construction: ghost copies, and migrating particles.
   double ghost_bytes_sent() const { return ghost_bytes_; }

@@ -1,0 +1,65 @@
+#include "talus/parallel/processes.hpp"
+
+#include "talus/output/files.hpp"
+
+#ifdef TALUS_MPI
+#include <mpi.h>
+#endif
+
+namespace talus {
+
+#ifdef TALUS_MPI
+namespace {
+bool mpi_on() {
+  int on = 0;
+  MPI_Initialized(&on);
+  return on != 0;
+}
+} // namespace
+
+int process_rank() {
+  int r = 0;
+  if (mpi_on()) MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+
+int process_count() {
+  int n = 1;
+  if (mpi_on()) MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+}
+
+void on_rank_zero(const std::function<void()>& f) {
+  if (process_count() == 1) return f();
+  int kind = 0; // 1: RunFolderError, 2: OutputError
+  std::string message;
+  if (process_rank() == 0) {
+    try {
+      f();
+    } catch (const RunFolderError& e) {
+      kind = 1, message = e.what();
+    } catch (const OutputError& e) {
+      kind = 2, message = e.what();
+    }
+  }
+  int n = static_cast<int>(message.size());
+  MPI_Bcast(&kind, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  message.resize(static_cast<std::size_t>(n));
+  MPI_Bcast(message.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
+  if (kind == 1) throw RunFolderError(message);
+  if (kind == 2) throw OutputError(message);
+}
+#else
+int process_rank() {
+  return 0;
+}
+int process_count() {
+  return 1;
+}
+void on_rank_zero(const std::function<void()>& f) {
+  f();
+}
+#endif
+
+} // namespace talus
