@@ -3,6 +3,7 @@
 #include "talus/case/parse.hpp"
 #include "talus/memory_usage.hpp"
 #include "talus/output/files.hpp"
+#include "talus/parallel/processes.hpp"
 #include "talus/run.hpp"
 #include "talus/solver.hpp"
 #include "talus/threads.hpp"
@@ -10,6 +11,10 @@
 #include <chrono>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#ifdef TALUS_MPI
+#include "talus/parallel/distributed.hpp"
+#include <memory>
+#endif
 
 namespace talus {
 
@@ -35,7 +40,8 @@ int run_bench(const BenchOptions& opt) {
       {"vaiont_3d", "cases/vaiont/rigid_boundary_3d.toml", {"initial_state.settle_time=0"}, 100},
   };
   nlohmann::json out = nlohmann::json::array();
-  fmt::print(
+  if (process_rank() == 0)
+    fmt::print(
       "{:<10} {:>8} {:>9} {:>6} {:>9} {:>12} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>9} {:>9}\n",
       "problem", "threads", "particles", "steps", "wall s", "updates/s", "p2g", "grid", "contact",
       "g2p", "stress", "other", "B/part.", "RSS/part.");
@@ -48,30 +54,69 @@ int run_bench(const BenchOptions& opt) {
       reset_peak_rss();
       const double rss_before = read_rss().now;
       Simulation<D> sim(c);
-      sim.step(); // warm-up: first sort and field allocation
+      const double n = static_cast<double>(sim.particles().size());
+      // Under mpirun, each process steps its slab (parallel/distributed.hpp).
+#ifdef TALUS_MPI
+      std::unique_ptr<Distributed<D>> dist;
+      if (process_count() > 1) dist = std::make_unique<Distributed<D>>(sim, MPI_COMM_WORLD);
+      auto steps = [&] { dist ? dist->step() : sim.step(); };
+      auto sync = [&] {
+        if (dist) MPI_Barrier(MPI_COMM_WORLD);
+      };
+#else
+      auto steps = [&sim] { sim.step(); };
+      auto sync = [] {};
+#endif
+      steps(); // warm-up: first sort and field allocation
       const PhaseTimes before = sim.phase_times();
+#ifdef TALUS_MPI
+      const double ghost0 = dist ? dist->ghost_bytes_sent() : 0.0;
+      const double migration0 = dist ? dist->migration_bytes_sent() : 0.0;
+#endif
+      sync();
       const auto t0 = std::chrono::steady_clock::now();
       for (int s = 0; s < pb.steps; ++s)
-        sim.step();
+        steps();
+      sync();
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       PhaseTimes T = sim.phase_times();
       T.p2g -= before.p2g, T.grid -= before.grid, T.contact -= before.contact, T.g2p -= before.g2p;
       T.stress -= before.stress, T.other -= before.other;
-      const double n = static_cast<double>(sim.particles().size());
       const double rate = n * pb.steps / wall;
       // Memory: the rise of the peak resident set over the set-up and the run (particles, grid
       // fields and every other array the problem allocates), and the whole process's peak
       // (which adds the program, its libraries and the parsed case).
       const Rss rss = read_rss();
-      const double bytes = (rss.peak - rss_before) / n, process_bytes = rss.peak / n;
-      fmt::print("{:<10} {:>8} {:>9} {:>6} {:>9.2f} {:>12.3e} {:>7.2f} {:>7.2f} {:>7.2f} {:>7.2f} "
+      double rise = rss.peak - rss_before, peak = rss.peak;
+      nlohmann::json processes = nullptr;
+#ifdef TALUS_MPI
+      if (dist) { // every process's memory; the exchange's bytes per step, summed
+        double figures[4] = {rise, peak, (dist->ghost_bytes_sent() - ghost0) / pb.steps,
+                             (dist->migration_bytes_sent() - migration0) / pb.steps};
+        double ghosts = static_cast<double>(dist->ghost_particles());
+        MPI_Allreduce(MPI_IN_PLACE, figures, 4, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+        MPI_Allreduce(MPI_IN_PLACE, &ghosts, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+        rise = figures[0], peak = figures[1];
+        processes = {{"processes", dist->size()},
+                     {"ghost_particles", ghosts},
+                     {"ghost_bytes_per_step", figures[2]},
+                     {"migration_bytes_per_step", figures[3]}};
+        if (dist->rank() == 0)
+          fmt::print("  {} processes: {:.0f} ghost particles ({:.1f} % of the particles), "
+                     "{:.0f} kB of ghosts and {:.0f} B of migration a step\n",
+                     dist->size(), ghosts, 100.0 * ghosts / n, figures[2] / 1e3, figures[3]);
+      }
+#endif
+      const double bytes = rise / n, process_bytes = peak / n;
+      if (process_rank() == 0)
+        fmt::print("{:<10} {:>8} {:>9} {:>6} {:>9.2f} {:>12.3e} {:>7.2f} {:>7.2f} {:>7.2f} {:>7.2f} "
                  "{:>7.2f} {:>7.2f} {:>9.0f} {:>9.0f}\n",
-                 pb.name, threads, sim.particles().size(), pb.steps, wall, rate, T.p2g, T.grid,
+                 pb.name, threads, static_cast<std::size_t>(n), pb.steps, wall, rate, T.p2g, T.grid,
                  T.contact, T.g2p, T.stress, T.other, bytes, process_bytes);
       out.push_back({{"problem", pb.name},
                      {"threads", threads},
-                     {"particles", sim.particles().size()},
+                     {"particles", static_cast<std::size_t>(n)},
                      {"steps", pb.steps},
                      {"wall_seconds", wall},
                      {"particle_updates_per_second", rate},
@@ -83,7 +128,8 @@ int run_bench(const BenchOptions& opt) {
                        {"stress", T.stress},
                        {"other", T.other}}},
                      {"peak_rss_bytes_per_particle", bytes},
-                     {"process_peak_rss_bytes_per_particle", process_bytes}});
+                     {"process_peak_rss_bytes_per_particle", process_bytes},
+                     {"processes", processes}});
     };
     for (const int threads : opt.threads) {
       set_threads(threads, 0);
@@ -93,7 +139,7 @@ int run_bench(const BenchOptions& opt) {
         measure.template operator()<2>(threads);
     }
   }
-  if (!opt.json_out.empty()) write_file_atomic(opt.json_out, out.dump(2) + "\n");
+  if (!opt.json_out.empty() && process_rank() == 0) write_file_atomic(opt.json_out, out.dump(2) + "\n");
   return 0;
 }
 

@@ -476,7 +476,7 @@ private:
       release();
       checkpoint_time_ = next_checkpoint(ck);
     }
-    if (!writer_) {
+    if (!monitor_) { // (the monitor: every process has one once output started)
       start_output();
       write_frame();
     }

@@ -1,0 +1,135 @@
+#!/usr/bin/env python3
+"""`mpirun -np N talus run`: the run folder of the coarse three-body Vaiont (contact, cohesive
+interfaces that degrade with slip and cross the slab cuts, settling, probes, frames) on 2 and 3
+processes x 1 and 2 threads is byte for byte the one-process run's: every CSV, every VTU frame,
+the ParaView series, and the results in summary.json. Then: a run stopped on 2 processes
+(--max-steps) and restarted on 3 ends identical; a process killed with SIGKILL stops the others
+and leaves its newest checkpoint readable, and a one-process restart from it ends identical; a
+grid too narrow for the processes is refused with a message naming its columns.
+
+Usage: mpi_run_test.py TALUS_SERIAL TALUS_MPI MPIEXEC SOURCE_DIR WORK_DIR
+"""
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+serial, talus, mpiexec, source, work = sys.argv[1:4] + [Path(sys.argv[4]), Path(sys.argv[5])]
+case = source / "cases/vaiont/three_bodies.toml"
+settings = ["grid.cell_size=16", "initial_state.settle_time=1.0", "simulation.end_time=2.0",
+            "output.every=0.5", "output.particles=true", "checkpoint.every=0.5",
+            "checkpoint.wall_minutes=0"]
+failures = []
+env = dict(os.environ, OMP_WAIT_POLICY="passive", OMPI_ALLOW_RUN_AS_ROOT="1",
+           OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+
+
+def mpi(np, threads):
+    return [mpiexec, "--oversubscribe", "--mca", "mpi_yield_when_idle", "1", "-x",
+            "OMP_WAIT_POLICY", "-np", str(np), talus]
+
+
+def args(out, extra=()):
+    a = ["run", str(case), "--out", str(out), *extra]
+    for s in settings:
+        a += ["--set", s]
+    return a
+
+
+def run(cmd, threads, timeout=900):
+    p = subprocess.run([*cmd, "--threads", str(threads)], env=env, capture_output=True,
+                       text=True, timeout=timeout)
+    return p.returncode, p.stdout + p.stderr
+
+
+def fresh(name):
+    d = work / name
+    shutil.rmtree(d, ignore_errors=True)
+    return d
+
+
+def compare(ref, other, label):
+    names = sorted(p.name for p in ref.iterdir() if p.suffix in (".csv", ".vtu", ".pvd"))
+    if not any(n.endswith(".vtu") for n in names):
+        failures.append(f"{label}: the reference run wrote no frames")
+    for n in names:
+        if not (other / n).exists() or (ref / n).read_bytes() != (other / n).read_bytes():
+            failures.append(f"{label}: {n} differs from the one-process run")
+    results = lambda d: json.loads((d / "summary.json").read_text())["results"]
+    if results(ref) != results(other):
+        failures.append(f"{label}: summary.json results differ: {results(other)}")
+
+
+work.mkdir(parents=True, exist_ok=True)
+ref = fresh("one")
+rc, out = run([serial, *args(ref)], 2)
+if rc != 0:
+    sys.exit(f"the one-process run failed ({rc}): {out}")
+
+for np in (2, 3):
+    for threads in (1, 2):
+        d = fresh(f"np{np}_t{threads}")
+        rc, out = run([*mpi(np, threads), *args(d)], threads)
+        if rc != 0:
+            failures.append(f"{np} processes x {threads} threads: exit {rc}: {out[-2000:]}")
+            continue
+        if f"{np} processes x {threads} threads" not in out:
+            failures.append(f"{np} x {threads}: the log does not name the processes: {out[:300]}")
+        compare(ref, d, f"{np} processes x {threads} threads")
+
+# Stopped on 2 processes (inside the run, past two checkpoints), restarted on 3.
+d = fresh("two_then_three")
+rc, out = run([*mpi(2, 1), *args(d, ["--max-steps", "120"])], 1)
+if rc != 0 or "stopped after 120 steps" not in out:
+    failures.append(f"stop on 2 processes: exit {rc}: {out[-1500:]}")
+rc, out = run([*mpi(3, 1), "run", "--restart", str(d)], 1)
+if rc != 0:
+    failures.append(f"restart on 3 processes: exit {rc}: {out[-1500:]}")
+else:
+    compare(ref, d, "stopped on 2 processes, restarted on 3")
+
+# A process killed mid-run: mpirun stops the others; the newest checkpoint is whole.
+d = fresh("killed")
+p = subprocess.Popen([*mpi(2, 1), *args(d), "--threads", "1"], env=env,
+                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+deadline = time.time() + 300
+while time.time() < deadline and len(list((d / "checkpoints").glob("*.ckpt"))) < 2:
+    time.sleep(0.05)
+ranks = subprocess.run(["pgrep", "-f", f"{talus} run {case}"], capture_output=True, text=True)
+pids = [int(x) for x in ranks.stdout.split()]
+if not pids:
+    failures.append("killed: no process of the run found")
+else:
+    os.kill(max(pids), signal.SIGKILL)
+try:
+    p.wait(timeout=120)
+    if p.returncode == 0:
+        failures.append("killed: mpirun reported success after a process was killed")
+except subprocess.TimeoutExpired:
+    p.kill()
+    failures.append("killed: the other process did not stop within 120 s")
+summary = json.loads((d / "summary.json").read_text())
+if summary["status"] == "completed":
+    failures.append("killed: the run completed although a process was killed")
+rc, out = run([serial, "run", "--restart", str(d)], 2)
+if rc != 0:
+    failures.append(f"killed: one-process restart from the newest checkpoint: exit {rc}: {out}")
+else:
+    compare(ref, d, "killed on 2 processes, restarted on 1")
+
+# A grid too narrow for the processes' slabs.
+d = fresh("narrow")
+rc, out = run([*mpi(4, 1), "run", str(source / "cases/benchmarks/cohesive_block.toml"), "--out",
+               str(d), "--set", "grid.cell_size=0.5"], 1)
+if rc != 2 or "cell columns" not in out:
+    failures.append(f"narrow grid: exit {rc}, expected 2 with the columns named: {out[-800:]}")
+
+if failures:
+    print("\n".join(failures))
+    sys.exit(1)
+print("mpi run folders identical to the one-process run (2, 3 processes x 1, 2 threads; "
+      "2 -> 3 restart; killed process; narrow grid refused)")
