@@ -138,13 +138,15 @@ std::size_t Distributed<D>::unpack(const std::vector<char>& buf, std::size_t pos
 }
 
 template <int D>
-std::vector<char> Distributed<D>::all_to_all(const std::vector<std::vector<char>>& buffers,
-                                             double& sent) {
+const std::vector<char>& Distributed<D>::all_to_all(const std::vector<std::vector<char>>& buffers,
+                                                    double& sent) {
   std::vector<int> send_n(size_), recv_n(size_), send_at(size_, 0), recv_at(size_, 0);
   for (int q = 0; q < size_; ++q)
     send_n[q] = static_cast<int>(buffers[q].size()), sent += send_n[q];
   MPI_Alltoall(send_n.data(), 1, MPI_INT, recv_n.data(), 1, MPI_INT, comm_);
-  std::vector<char> out_buf, in_buf;
+  std::vector<char>& out_buf = send_buf_;
+  std::vector<char>& in_buf = recv_buf_;
+  out_buf.clear();
   for (int q = 0; q < size_; ++q) {
     send_at[q] = static_cast<int>(out_buf.size());
     out_buf.insert(out_buf.end(), buffers[q].begin(), buffers[q].end());
@@ -162,7 +164,10 @@ std::vector<char> Distributed<D>::all_to_all(const std::vector<std::vector<char>
 // columns, holds its column. The share is the own and ghost particles merged by global index.
 template <int D>
 void Distributed<D>::build_share() {
-  std::vector<std::vector<char>> out(size_);
+  std::vector<std::vector<char>>& out = outgoing_;
+  out.resize(size_);
+  for (auto& o : out)
+    o.clear();
   for (std::size_t p = 0; p < own_index_.size(); ++p) {
     const std::int64_t c = column(own_.x[p]);
     const int q_lo = slab_owner(bounds_, c - ghost_width_);
@@ -171,10 +176,12 @@ void Distributed<D>::build_share() {
       if (q != rank_ && c >= bounds_[q] - ghost_width_ && c < bounds_[q + 1] + ghost_width_)
         pack(own_, p, own_index_[p], out[q]);
   }
-  const std::vector<char> in = all_to_all(out, ghost_bytes_);
-  Particles<D> ghost;
+  const std::vector<char>& in = all_to_all(out, ghost_bytes_);
+  Particles<D>& ghost = ghost_; // reused: its arrays keep their capacity from step to step
+  clear_arrays(ghost);
   ghost.body_begin = body_begin_;
-  std::vector<std::uint32_t> ghost_index;
+  std::vector<std::uint32_t>& ghost_index = ghost_index_;
+  ghost_index.clear();
   for (std::size_t pos = 0; pos < in.size();)
     pos = unpack(in, pos, ghost, ghost_index);
   ghosts_ = ghost_index.size();
@@ -199,7 +206,7 @@ void Distributed<D>::build_share() {
       share_own_[k] = 0;
     }
   }
-  Particles<D> share;
+  Particles<D> share = std::move(spare_); // the last share's arrays: no new allocation
   const std::uint32_t n_own = static_cast<std::uint32_t>(own_index_.size());
   Particles<D>::for_each_array_pair(share, own_, [&](auto& s, auto& o) {
     s.resize(n);
@@ -218,7 +225,8 @@ void Distributed<D>::build_share() {
 
 template <int D>
 void Distributed<D>::collect_own() {
-  Particles<D> share = sim_.take_particles();
+  spare_ = sim_.take_particles(); // kept for the next share's arrays
+  Particles<D>& share = spare_;
   std::vector<std::uint32_t> keep;
   for (std::size_t k = 0; k < share_own_.size(); ++k)
     if (share_own_[k]) keep.push_back(static_cast<std::uint32_t>(k));
@@ -244,7 +252,7 @@ void Distributed<D>::migrate() {
     else
       pack(own_, p, own_index_[p], out[q]);
   }
-  const std::vector<char> in = all_to_all(out, migration_bytes_);
+  const std::vector<char>& in = all_to_all(out, migration_bytes_);
   Particles<D> arrived;
   arrived.body_begin = body_begin_;
   std::vector<std::uint32_t> arrived_index;

@@ -89,7 +89,8 @@ private:
   std::size_t unpack(const std::vector<char>& buf, std::size_t pos, Particles<D>& P,
                      std::vector<std::uint32_t>& index);
   // Sends buffers[q] to process q, returns what every process sent here (concatenated).
-  std::vector<char> all_to_all(const std::vector<std::vector<char>>& buffers, double& sent);
+  const std::vector<char>& all_to_all(const std::vector<std::vector<char>>& buffers,
+                                      double& sent);
   // body_begin of particles sorted by global index.
   std::vector<std::size_t> body_begin_of(const std::vector<std::uint32_t>& index) const;
   [[noreturn]] void abort_run(const std::exception& e) const;
@@ -107,8 +108,13 @@ private:
   std::vector<std::uint32_t> own_index_; // their global indices
   std::vector<std::uint32_t> share_index_; // the share's (own and ghosts) global indices
   std::vector<char> share_own_;            // 1: own, 0: ghost
-  Particles<D> whole_;                     // rank 0's whole state, during with_whole_state
-  Particles<D> parked_share_;              // the share, parked while whole_ is in sim
+  // Reused from step to step, so that their arrays keep their capacity (no page faults): the
+  // last share, the ghosts received, the byte buffers.
+  Particles<D> spare_, ghost_;
+  std::vector<std::uint32_t> ghost_index_;
+  std::vector<std::vector<char>> outgoing_;
+  std::vector<char> send_buf_, recv_buf_;
+  Particles<D> parked_share_; // the share, parked while the whole state is in sim
   bool fields_stand_ = true; // the next share holds the same fixed-body particles as the last
   std::vector<std::uint32_t> pool_size_; // per pore-pool offset: its entry's length (0: none)
   std::size_t record_bytes_ = 0;
