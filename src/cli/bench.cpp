@@ -42,9 +42,9 @@ int run_bench(const BenchOptions& opt) {
   nlohmann::json out = nlohmann::json::array();
   if (process_rank() == 0)
     fmt::print(
-      "{:<10} {:>8} {:>9} {:>6} {:>9} {:>12} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>9} {:>9}\n",
-      "problem", "threads", "particles", "steps", "wall s", "updates/s", "p2g", "grid", "contact",
-      "g2p", "stress", "other", "B/part.", "RSS/part.");
+        "{:<10} {:>8} {:>9} {:>6} {:>9} {:>12} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>9} {:>9}\n",
+        "problem", "threads", "particles", "steps", "wall s", "updates/s", "p2g", "grid", "contact",
+        "g2p", "stress", "other", "B/part.", "RSS/part.");
   for (const Problem& pb : all) {
     if (std::find(opt.problems.begin(), opt.problems.end(), pb.name) == opt.problems.end())
       continue;
@@ -110,10 +110,11 @@ int run_bench(const BenchOptions& opt) {
 #endif
       const double bytes = rise / n, process_bytes = peak / n;
       if (process_rank() == 0)
-        fmt::print("{:<10} {:>8} {:>9} {:>6} {:>9.2f} {:>12.3e} {:>7.2f} {:>7.2f} {:>7.2f} {:>7.2f} "
-                 "{:>7.2f} {:>7.2f} {:>9.0f} {:>9.0f}\n",
-                 pb.name, threads, static_cast<std::size_t>(n), pb.steps, wall, rate, T.p2g, T.grid,
-                 T.contact, T.g2p, T.stress, T.other, bytes, process_bytes);
+        fmt::print(
+            "{:<10} {:>8} {:>9} {:>6} {:>9.2f} {:>12.3e} {:>7.2f} {:>7.2f} {:>7.2f} {:>7.2f} "
+            "{:>7.2f} {:>7.2f} {:>9.0f} {:>9.0f}\n",
+            pb.name, threads, static_cast<std::size_t>(n), pb.steps, wall, rate, T.p2g, T.grid,
+            T.contact, T.g2p, T.stress, T.other, bytes, process_bytes);
       out.push_back({{"problem", pb.name},
                      {"threads", threads},
                      {"particles", static_cast<std::size_t>(n)},
@@ -139,7 +140,8 @@ int run_bench(const BenchOptions& opt) {
         measure.template operator()<2>(threads);
     }
   }
-  if (!opt.json_out.empty() && process_rank() == 0) write_file_atomic(opt.json_out, out.dump(2) + "\n");
+  if (!opt.json_out.empty() && process_rank() == 0)
+    write_file_atomic(opt.json_out, out.dump(2) + "\n");
   return 0;
 }
 

@@ -118,7 +118,8 @@ struct ContactRecord {
       std::fill_n(interface_rows_.begin() + r * F, F, InterfaceForce{});
       if (static_cast<std::int64_t>(node_rows_.size()) > r) node_rows_[r].clear();
     }
-    static_assert(sizeof(Vec<D>) == D * sizeof(double) && sizeof(InterfaceForce) == 3 * sizeof(double));
+    static_assert(sizeof(Vec<D>) == D * sizeof(double) &&
+                  sizeof(InterfaceForce) == 3 * sizeof(double));
     sum_disjoint(force_rows_.data()->data(), force_rows_.size() * D);
     sum_disjoint(work_rows_.data(), work_rows_.size());
     sum_disjoint(&interface_rows_.data()->cohesive, interface_rows_.size() * 3);

@@ -390,7 +390,8 @@ private:
       mass_.resize(P.size()), mass_speed_.resize(P.size());
       for (std::size_t p = begin; p < end; ++p)
         mass_[p] = P.m[p], mass_speed_[p] = P.m[p] * P.v[p].norm();
-      f.mass = chunked_sum(b, begin, end, mass_), f.mass_speed = chunked_sum(b, begin, end, mass_speed_);
+      f.mass = chunked_sum(b, begin, end, mass_),
+      f.mass_speed = chunked_sum(b, begin, end, mass_speed_);
     }
 #ifdef TALUS_MPI
     if (dist_) {
@@ -543,8 +544,7 @@ private:
       r.signal = stop;
       r.message = fmt::format("stopped by signal {} at step {}, time {:.6g} s; checkpoint {}; "
                               "continue with: talus run --restart {}",
-                              stop, sim_.steps(), sim_.time(),
-                              last_checkpoint_, opt_.out_dir);
+                              stop, sim_.steps(), sim_.time(), last_checkpoint_, opt_.out_dir);
       return false;
     }
     if (opt_.max_steps && sim_.steps() >= *opt_.max_steps &&
@@ -614,7 +614,9 @@ private:
                                std::chrono::duration<double>(Clock::now() - t0).count());
   }
   // Whether the progress goes to a terminal (its line is redrawn: no checkpoint lines there).
-  static bool progress_tty() { return ::isatty(STDOUT_FILENO); }
+  static bool progress_tty() {
+    return ::isatty(STDOUT_FILENO);
+  }
 
   void finish(RunResult& r, Clock::time_point wall0, int threads) {
     r.steps = sim_.steps();

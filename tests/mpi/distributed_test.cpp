@@ -121,15 +121,17 @@ class OnProcesses : public ::testing::TestWithParam<GoldenCase> {};
 TEST_P(OnProcesses, HashOfOneProcessAndAcrossACheckpointFromFewerProcesses) {
   const GoldenCase& g = GetParam();
   const Outcome whole = run_golden_distributed(g, 0);
-  EXPECT_EQ(whole.hash, g.hash) << g.name << fmt::format(": hash 0x{:016x}ull on {} processes",
-                                                         whole.hash, world_size());
+  EXPECT_EQ(whole.hash, g.hash) << g.name
+                                << fmt::format(": hash 0x{:016x}ull on {} processes", whole.hash,
+                                               world_size());
   const Outcome restarted = run_golden_distributed(g, (g.settle_steps + g.steps) / 2 + 1);
   EXPECT_EQ(restarted.hash, g.hash)
-      << g.name << fmt::format(": continued on {} processes from a checkpoint of {}",
-                               world_size(), std::max(world_size() - 1, 1));
+      << g.name
+      << fmt::format(": continued on {} processes from a checkpoint of {}", world_size(),
+                     std::max(world_size() - 1, 1));
   if (world_rank() == 0)
-    fmt::print("  {}: {} processes, {} rebalances, fewest own particles {}\n", g.name,
-               world_size(), whole.rebalances, whole.fewest_own);
+    fmt::print("  {}: {} processes, {} rebalances, fewest own particles {}\n", g.name, world_size(),
+               whole.rebalances, whole.fewest_own);
   // The column stands in the grid's corner: the even first slabs leave processes without
   // particles, and the rebalance moves the slabs onto it.
   if (world_size() > 1 && std::string(g.name).starts_with("column_")) {

@@ -31,8 +31,8 @@ void PrintTo(const GoldenCase& g, std::ostream* os) {
 
 namespace {
 
-using golden::GoldenCase;
 using golden::golden_cases;
+using golden::GoldenCase;
 using golden::run_golden;
 
 class Golden : public ::testing::TestWithParam<GoldenCase> {};

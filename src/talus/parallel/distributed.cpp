@@ -105,8 +105,7 @@ Distributed<D>::body_begin_of(const std::vector<std::uint32_t>& index) const {
 }
 
 template <int D>
-void Distributed<D>::pack(Particles<D>& P, std::size_t p, std::uint32_t g,
-                          std::vector<char>& buf) {
+void Distributed<D>::pack(Particles<D>& P, std::size_t p, std::uint32_t g, std::vector<char>& buf) {
   auto put = [&](const void* data, std::size_t n) {
     const std::size_t at = buf.size();
     buf.resize(at + n);
@@ -195,8 +194,8 @@ void Distributed<D>::build_share() {
   share_index_.resize(n);
   share_own_.resize(n);
   for (std::size_t k = 0, i = 0, j = 0; k < n; ++k) {
-    const bool take_own = j == g_order.size() ||
-                          (i < own_index_.size() && own_index_[i] < ghost_index[g_order[j]]);
+    const bool take_own =
+        j == g_order.size() || (i < own_index_.size() && own_index_[i] < ghost_index[g_order[j]]);
     if (take_own) {
       from[k] = static_cast<std::uint32_t>(i), share_index_[k] = own_index_[i++];
       share_own_[k] = 1;
@@ -313,8 +312,8 @@ void Distributed<D>::sort_own() {
   if (rank_ == 0) std::fill(before.begin(), before.end(), 0);
   for (int b = 0; b < B; ++b)
     for (std::size_t p = own_.body_begin[b]; p < own_.body_begin[b + 1]; ++p)
-      own_index_[p] = static_cast<std::uint32_t>(body_begin_[b] + before[b] +
-                                                 (p - own_.body_begin[b]));
+      own_index_[p] =
+          static_cast<std::uint32_t>(body_begin_[b] + before[b] + (p - own_.body_begin[b]));
 }
 
 // New slab bounds from the particle count per column; the particles whose slab changed move.
@@ -345,7 +344,8 @@ template <int D>
 void Distributed<D>::step(double dt_limit) {
   try {
     const std::int64_t step = sim_.steps();
-    const bool rebalance_due = rebalance_interval_ > 0 && step > 0 && step % rebalance_interval_ == 0;
+    const bool rebalance_due =
+        rebalance_interval_ > 0 && step > 0 && step % rebalance_interval_ == 0;
     const bool sort_due = step % sim_.sort_interval() == 0;
     if (rebalance_due || sort_due) {
       collect_own();

@@ -89,8 +89,7 @@ private:
   std::size_t unpack(const std::vector<char>& buf, std::size_t pos, Particles<D>& P,
                      std::vector<std::uint32_t>& index);
   // Sends buffers[q] to process q, returns what every process sent here (concatenated).
-  const std::vector<char>& all_to_all(const std::vector<std::vector<char>>& buffers,
-                                      double& sent);
+  const std::vector<char>& all_to_all(const std::vector<std::vector<char>>& buffers, double& sent);
   // body_begin of particles sorted by global index.
   std::vector<std::size_t> body_begin_of(const std::vector<std::uint32_t>& index) const;
   [[noreturn]] void abort_run(const std::exception& e) const;
@@ -104,8 +103,8 @@ private:
   std::int64_t cells_per_column_ = 1;
   std::vector<std::size_t> body_begin_; // one process's body ranges of the global index
 
-  Particles<D> own_;                     // this process's particles, by global index
-  std::vector<std::uint32_t> own_index_; // their global indices
+  Particles<D> own_;                       // this process's particles, by global index
+  std::vector<std::uint32_t> own_index_;   // their global indices
   std::vector<std::uint32_t> share_index_; // the share's (own and ghosts) global indices
   std::vector<char> share_own_;            // 1: own, 0: ghost
   // Reused from step to step, so that their arrays keep their capacity (no page faults): the
@@ -115,7 +114,7 @@ private:
   std::vector<std::vector<char>> outgoing_;
   std::vector<char> send_buf_, recv_buf_;
   Particles<D> parked_share_; // the share, parked while the whole state is in sim
-  bool fields_stand_ = true; // the next share holds the same fixed-body particles as the last
+  bool fields_stand_ = true;  // the next share holds the same fixed-body particles as the last
   std::vector<std::uint32_t> pool_size_; // per pore-pool offset: its entry's length (0: none)
   std::size_t record_bytes_ = 0;
   std::size_t ghosts_ = 0;
