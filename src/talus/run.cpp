@@ -2,6 +2,8 @@
 
 #include "talus/case/parse.hpp"
 #include "talus/output/checkpoint.hpp"
+#include "talus/output/progress.hpp"
+#include "talus/output/results_monitor.hpp"
 #include "talus/output/run_writer.hpp"
 #include "talus/parallel/processes.hpp"
 #include "talus/solver.hpp"
@@ -25,173 +27,10 @@ namespace talus {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// A progress bar on a terminal; a plain line every 10 % or 30 s otherwise.
-class Progress {
-public:
-  Progress(std::ostream* out, double end_time, std::int64_t first_step)
-      : out_(out), end_(end_time), tty_(out && ::isatty(STDOUT_FILENO)), start_(Clock::now()),
-        first_step_(first_step) {}
-
-  void update(double t, std::int64_t steps, bool final = false) {
-    if (!out_) return;
-    const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
-    const double frac = std::min(1.0, t / end_);
-    if (first_frac_ < 0) first_frac_ = frac; // a restarted run starts part-way
-    const bool due =
-        tty_ ? wall - last_wall_ >= 0.2 : (frac >= next_frac_ || wall - last_wall_ >= 30.0);
-    if (!due && !final) return;
-    if (final && !tty_ && steps == last_steps_) return; // this state is already on its own line
-    last_wall_ = wall;
-    last_steps_ = steps;
-    while (next_frac_ <= frac)
-      next_frac_ += 0.1;
-    const double rate = wall > 0 ? static_cast<double>(steps - first_step_) / wall : 0.0;
-    const double eta = frac > first_frac_ ? wall * (1.0 - frac) / (frac - first_frac_) : 0.0;
-    const std::string text =
-        fmt::format("t = {:.4g} / {:.4g} s  {:5.1f} %  {} steps  {:.0f} steps/s  ETA {:.0f} s", t,
-                    end_, 100.0 * frac, steps, rate, eta);
-    if (tty_) {
-      const int width = 30;
-      const int filled = static_cast<int>(frac * width);
-      *out_ << "\r[" << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << text
-            << (final ? "\n" : "") << std::flush;
-    } else {
-      *out_ << text << "\n" << std::flush;
-    }
-  }
-
-private:
-  std::ostream* out_;
-  double end_;
-  bool tty_;
-  Clock::time_point start_;
-  double last_wall_ = -1e9;
-  double next_frac_ = 0.0;
-  std::int64_t first_step_;
-  double first_frac_ = -1.0;
-  std::int64_t last_steps_ = -1;
-};
-
-// Where the potential energy a body released went (since release): J, per metre in 2D.
-template <int D>
-nlohmann::json energy_budget(const Simulation<D>& sim, int b) {
-  const auto& P = sim.particles();
-  double ke = 0.0;
-  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
-    ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
-  const double gravity = sim.gravity_work(b), contact = sim.contact_work(b);
-  const double internal = sim.internal_work(b);
-  const double elastic = sim.strain_energy(b) - sim.strain_energy_at_release(b);
-  return {{"gravity_work_J", gravity},
-          {"kinetic_J", ke},
-          {"contact_work_J", contact},
-          {"stress_work_J", internal},
-          {"elastic_change_J", elastic},
-          {"plastic_work_J", internal - elastic},
-          {"unbalanced_J", gravity + contact - internal - ke}};
-}
-
-// What the results monitor tracks of one step, formed on one process or over several (Runner::
-// step_figures): per probe its particle's speed, per interface its particles' largest pore
-// pressure and band temperature (-inf: none), and the results body's sums of m and m |v| (in
-// chunks of particle order, as Distributed::chunk_sums forms them).
-struct StepFigures {
-  std::vector<double> probe_speed, pore_peak, temperature_peak;
-  double mass = 0.0, mass_speed = 0.0;
-};
-constexpr std::int64_t figure_chunk = 1024; // particles per chunk of the body sums
-
-// The headline figures of a run (ResultsSpec), tracked every step.
-template <int D>
-class ResultsMonitor {
-public:
-  explicit ResultsMonitor(const Simulation<D>& sim)
-      : body_(sim.case_().results.body), probe_ids_(sim.probe_ids()) {
-    probe_peak_.assign(probe_ids_.size(), 0.0);
-    pore_peak_.assign(sim.setup().interfaces.size(), 0.0);
-    temperature_peak_.assign(sim.setup().interfaces.size(), -inf);
-    if (body_ >= 0) centroid0_ = centroid(sim);
-  }
-
-  int body() const { return body_; }
-  std::vector<std::uint32_t>& probe_ids() { return probe_ids_; }
-
-  void update(const StepFigures& f, double time, double stop_speed) {
-    for (std::size_t k = 0; k < probe_ids_.size(); ++k)
-      probe_peak_[k] = std::max(probe_peak_[k], f.probe_speed[k]);
-    // The interfaces' largest excess pore pressure and band temperature so far.
-    for (std::size_t i = 0; i < pore_peak_.size(); ++i) {
-      pore_peak_[i] = std::max(pore_peak_[i], f.pore_peak[i]);
-      temperature_peak_[i] = std::max(temperature_peak_[i], f.temperature_peak[i]);
-    }
-    if (body_ < 0) return;
-    const double speed = f.mass_speed / f.mass;
-    if (speed > peak_) peak_ = speed, peak_time_ = time;
-    if (speed >= stop_speed) last_moving_ = time;
-    last_speed_ = speed;
-  }
-
-  nlohmann::json json(const Simulation<D>& sim, double settle_ke) const {
-    nlohmann::json j = nlohmann::json::object();
-    const Case& c = sim.case_();
-    const auto& P = sim.particles();
-    if (c.initial_state.settle_time > 0.0) {
-      j["settle_time_s"] = c.initial_state.settle_time;
-      j["kinetic_energy_at_release_J"] = settle_ke;
-    }
-    nlohmann::json probes = nlohmann::json::object();
-    for (std::size_t k = 0; k < probe_ids_.size(); ++k) {
-      const std::size_t p = sim.index_of(probe_ids_[k]);
-      probes[c.probes[k].name] = {{"peak_speed_m_s", probe_peak_[k]},
-                                  {"displacement_x_m", P.x[p][0] - P.x0[p][0]},
-                                  {"displacement_m", (P.x[p] - P.x0[p]).norm()}};
-    }
-    if (!probe_ids_.empty()) j["probes"] = probes;
-    nlohmann::json water = nlohmann::json::object();
-    for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
-      if (!sim.setup().interface_pressure[f]) continue;
-      const std::string name =
-          c.bodies[c.interfaces[f].a].name + "-" + c.bodies[c.interfaces[f].b].name;
-      water[name]["peak_pore_pressure_Pa"] = pore_peak_[f];
-      if (c.interfaces[f].thermal_pressurization)
-        water[name]["peak_band_temperature_C"] = temperature_peak_[f];
-    }
-    if (!water.empty()) j["interfaces"] = water;
-    if (body_ < 0) return j;
-    j["body"] = c.bodies[body_].name;
-    j["peak_mean_speed_m_s"] = peak_;
-    j["peak_time_s"] = peak_time_;
-    const bool stopped = last_speed_ < c.results.stop_speed;
-    j["runout_duration_s"] = stopped ? nlohmann::json(last_moving_) : nlohmann::json(nullptr);
-    j["still_moving_at_end"] = !stopped;
-    j["centroid_displacement_x_m"] = centroid(sim)[0] - centroid0_[0];
-    j["energy"] = energy_budget(sim, body_);
-    return j;
-  }
-
-  template <class Ar>
-  void serialize(Ar& ar) {
-    ar.io(probe_ids_), ar.io(probe_peak_), ar.io(centroid0_), ar.io(peak_), ar.io(peak_time_);
-    ar.io(last_moving_), ar.io(last_speed_), ar.io(pore_peak_), ar.io(temperature_peak_);
-  }
-
-private:
-  Vec<D> centroid(const Simulation<D>& sim) const {
-    const auto& P = sim.particles();
-    double m = 0.0;
-    Vec<D> mx = Vec<D>::Zero();
-    for (std::size_t p = P.body_begin[body_]; p < P.body_begin[body_ + 1]; ++p)
-      m += P.m[p], mx += P.m[p] * P.x[p];
-    return mx / m;
-  }
-  int body_;
-  std::vector<std::uint32_t> probe_ids_;
-  std::vector<double> probe_peak_;
-  std::vector<double> pore_peak_, temperature_peak_; // per interface
-  Vec<D> centroid0_ = Vec<D>::Zero();
-  double peak_ = 0.0, peak_time_ = 0.0, last_moving_ = 0.0, last_speed_ = 0.0;
-};
+using results::energy_budget;
+using results::figure_chunk;
+using results::ResultsMonitor;
+using results::StepFigures;
 
 volatile std::sig_atomic_t stop_signal = 0;
 extern "C" void on_stop_signal(int sig) {

@@ -1,0 +1,135 @@
+// The results monitor of a run (ResultsSpec): the headline figures in summary.json, tracked
+// every step from StepFigures (one process's sums, or the same sums over several processes),
+// and the energy budget of a body. Used by run.cpp only.
+#pragma once
+
+#include "talus/case/case.hpp"
+#include "talus/solver.hpp"
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+namespace talus::results {
+
+// Where the potential energy a body released went (since release): J, per metre in 2D.
+template <int D>
+nlohmann::json energy_budget(const Simulation<D>& sim, int b) {
+  const auto& P = sim.particles();
+  double ke = 0.0;
+  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
+    ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
+  const double gravity = sim.gravity_work(b), contact = sim.contact_work(b);
+  const double internal = sim.internal_work(b);
+  const double elastic = sim.strain_energy(b) - sim.strain_energy_at_release(b);
+  return {{"gravity_work_J", gravity},
+          {"kinetic_J", ke},
+          {"contact_work_J", contact},
+          {"stress_work_J", internal},
+          {"elastic_change_J", elastic},
+          {"plastic_work_J", internal - elastic},
+          {"unbalanced_J", gravity + contact - internal - ke}};
+}
+
+// What the results monitor tracks of one step, formed on one process or over several (Runner::
+// step_figures): per probe its particle's speed, per interface its particles' largest pore
+// pressure and band temperature (-inf: none), and the results body's sums of m and m |v| (in
+// chunks of particle order, as Distributed::chunk_sums forms them).
+struct StepFigures {
+  std::vector<double> probe_speed, pore_peak, temperature_peak;
+  double mass = 0.0, mass_speed = 0.0;
+};
+constexpr std::int64_t figure_chunk = 1024; // particles per chunk of the body sums
+
+// The headline figures of a run (ResultsSpec), tracked every step.
+template <int D>
+class ResultsMonitor {
+public:
+  explicit ResultsMonitor(const Simulation<D>& sim)
+      : body_(sim.case_().results.body), probe_ids_(sim.probe_ids()) {
+    probe_peak_.assign(probe_ids_.size(), 0.0);
+    pore_peak_.assign(sim.setup().interfaces.size(), 0.0);
+    temperature_peak_.assign(sim.setup().interfaces.size(), -inf);
+    if (body_ >= 0) centroid0_ = centroid(sim);
+  }
+
+  int body() const { return body_; }
+  std::vector<std::uint32_t>& probe_ids() { return probe_ids_; }
+
+  void update(const StepFigures& f, double time, double stop_speed) {
+    for (std::size_t k = 0; k < probe_ids_.size(); ++k)
+      probe_peak_[k] = std::max(probe_peak_[k], f.probe_speed[k]);
+    // The interfaces' largest excess pore pressure and band temperature so far.
+    for (std::size_t i = 0; i < pore_peak_.size(); ++i) {
+      pore_peak_[i] = std::max(pore_peak_[i], f.pore_peak[i]);
+      temperature_peak_[i] = std::max(temperature_peak_[i], f.temperature_peak[i]);
+    }
+    if (body_ < 0) return;
+    const double speed = f.mass_speed / f.mass;
+    if (speed > peak_) peak_ = speed, peak_time_ = time;
+    if (speed >= stop_speed) last_moving_ = time;
+    last_speed_ = speed;
+  }
+
+  nlohmann::json json(const Simulation<D>& sim, double settle_ke) const {
+    nlohmann::json j = nlohmann::json::object();
+    const Case& c = sim.case_();
+    const auto& P = sim.particles();
+    if (c.initial_state.settle_time > 0.0) {
+      j["settle_time_s"] = c.initial_state.settle_time;
+      j["kinetic_energy_at_release_J"] = settle_ke;
+    }
+    nlohmann::json probes = nlohmann::json::object();
+    for (std::size_t k = 0; k < probe_ids_.size(); ++k) {
+      const std::size_t p = sim.index_of(probe_ids_[k]);
+      probes[c.probes[k].name] = {{"peak_speed_m_s", probe_peak_[k]},
+                                  {"displacement_x_m", P.x[p][0] - P.x0[p][0]},
+                                  {"displacement_m", (P.x[p] - P.x0[p]).norm()}};
+    }
+    if (!probe_ids_.empty()) j["probes"] = probes;
+    nlohmann::json water = nlohmann::json::object();
+    for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
+      if (!sim.setup().interface_pressure[f]) continue;
+      const std::string name =
+          c.bodies[c.interfaces[f].a].name + "-" + c.bodies[c.interfaces[f].b].name;
+      water[name]["peak_pore_pressure_Pa"] = pore_peak_[f];
+      if (c.interfaces[f].thermal_pressurization)
+        water[name]["peak_band_temperature_C"] = temperature_peak_[f];
+    }
+    if (!water.empty()) j["interfaces"] = water;
+    if (body_ < 0) return j;
+    j["body"] = c.bodies[body_].name;
+    j["peak_mean_speed_m_s"] = peak_;
+    j["peak_time_s"] = peak_time_;
+    const bool stopped = last_speed_ < c.results.stop_speed;
+    j["runout_duration_s"] = stopped ? nlohmann::json(last_moving_) : nlohmann::json(nullptr);
+    j["still_moving_at_end"] = !stopped;
+    j["centroid_displacement_x_m"] = centroid(sim)[0] - centroid0_[0];
+    j["energy"] = energy_budget(sim, body_);
+    return j;
+  }
+
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.io(probe_ids_), ar.io(probe_peak_), ar.io(centroid0_), ar.io(peak_), ar.io(peak_time_);
+    ar.io(last_moving_), ar.io(last_speed_), ar.io(pore_peak_), ar.io(temperature_peak_);
+  }
+
+private:
+  Vec<D> centroid(const Simulation<D>& sim) const {
+    const auto& P = sim.particles();
+    double m = 0.0;
+    Vec<D> mx = Vec<D>::Zero();
+    for (std::size_t p = P.body_begin[body_]; p < P.body_begin[body_ + 1]; ++p)
+      m += P.m[p], mx += P.m[p] * P.x[p];
+    return mx / m;
+  }
+  int body_;
+  std::vector<std::uint32_t> probe_ids_;
+  std::vector<double> probe_peak_;
+  std::vector<double> pore_peak_, temperature_peak_; // per interface
+  Vec<D> centroid0_ = Vec<D>::Zero();
+  double peak_ = 0.0, peak_time_ = 0.0, last_moving_ = 0.0, last_speed_ = 0.0;
+};
+
+} // namespace talus::results
