@@ -72,6 +72,7 @@ int run_bench(const BenchOptions& opt) {
 #ifdef TALUS_MPI
       const double ghost0 = dist ? dist->ghost_bytes_sent() : 0.0;
       const double migration0 = dist ? dist->migration_bytes_sent() : 0.0;
+      const std::int64_t rebuilds0 = dist ? dist->rebuilds() : 0;
 #endif
       sync();
       const auto t0 = std::chrono::steady_clock::now();
@@ -92,20 +93,25 @@ int run_bench(const BenchOptions& opt) {
       nlohmann::json processes = nullptr;
 #ifdef TALUS_MPI
       if (dist) { // every process's memory; the exchange's bytes per step, summed
-        double figures[4] = {rise, peak, (dist->ghost_bytes_sent() - ghost0) / pb.steps,
-                             (dist->migration_bytes_sent() - migration0) / pb.steps};
+        double figures[5] = {rise, peak, (dist->ghost_bytes_sent() - ghost0) / pb.steps,
+                             (dist->migration_bytes_sent() - migration0) / pb.steps,
+                             static_cast<double>(dist->rebuilds() - rebuilds0)};
         double ghosts = static_cast<double>(dist->ghost_particles());
         MPI_Allreduce(MPI_IN_PLACE, figures, 4, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+        MPI_Allreduce(MPI_IN_PLACE, figures + 4, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
         MPI_Allreduce(MPI_IN_PLACE, &ghosts, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
         rise = figures[0], peak = figures[1];
         processes = {{"processes", dist->size()},
                      {"ghost_particles", ghosts},
                      {"ghost_bytes_per_step", figures[2]},
-                     {"migration_bytes_per_step", figures[3]}};
+                     {"migration_bytes_per_step", figures[3]},
+                     {"share_rebuilds", figures[4]}};
         if (dist->rank() == 0)
           fmt::print("  {} processes: {:.0f} ghost particles ({:.1f} % of the particles), "
-                     "{:.0f} kB of ghosts and {:.0f} B of migration a step\n",
-                     dist->size(), ghosts, 100.0 * ghosts / n, figures[2] / 1e3, figures[3]);
+                     "{:.0f} kB of ghosts and {:.0f} B of migration a step; the share merged "
+                     "anew after {:.0f} of {} steps (sorts and rebalances aside)\n",
+                     dist->size(), ghosts, 100.0 * ghosts / n, figures[2] / 1e3, figures[3],
+                     figures[4], pb.steps);
       }
 #endif
       const double bytes = rise / n, process_bytes = peak / n;

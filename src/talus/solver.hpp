@@ -177,6 +177,11 @@ public:
     for (std::size_t p = 0; p < particles_.size(); ++p)
       index_of_id_[particles_.id[p]] = static_cast<std::uint32_t>(p);
   }
+  // The share to refresh in place: the same particles in the same slots, with new values.
+  Particles<D>& share_in_place() {
+    invalidate_shape();
+    return particles_;
+  }
   Particles<D> take_particles() {
     invalidate_shape();
     return std::move(particles_);

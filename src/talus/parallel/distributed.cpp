@@ -163,63 +163,150 @@ const std::vector<char>& Distributed<D>::all_to_all(const std::vector<std::vecto
 // columns, holds its column. The share is the own and ghost particles merged by global index.
 template <int D>
 void Distributed<D>::build_share() {
-  std::vector<std::vector<char>>& out = outgoing_;
-  out.resize(size_);
-  for (auto& o : out)
-    o.clear();
-  for (std::size_t p = 0; p < own_index_.size(); ++p) {
-    const std::int64_t c = column(own_.x[p]);
-    const int q_lo = slab_owner(bounds_, c - ghost_width_);
-    const int q_hi = slab_owner(bounds_, c + ghost_width_);
-    for (int q = q_lo; q <= q_hi; ++q)
-      if (q != rank_ && c >= bounds_[q] - ghost_width_ && c < bounds_[q + 1] + ghost_width_)
-        pack(own_, p, own_index_[p], out[q]);
-  }
-  const std::vector<char>& in = all_to_all(out, ghost_bytes_);
-  Particles<D>& ghost = ghost_; // reused: its arrays keep their capacity from step to step
-  clear_arrays(ghost);
-  ghost.body_begin = body_begin_;
-  std::vector<std::uint32_t>& ghost_index = ghost_index_;
-  ghost_index.clear();
-  for (std::size_t pos = 0; pos < in.size();)
-    pos = unpack(in, pos, ghost, ghost_index);
+  std::vector<std::uint32_t>& rows = rows_;
+  rows.resize(own_index_.size());
+  std::iota(rows.begin(), rows.end(), 0u);
+  send_ghosts(own_, rows, own_index_);
+  merge_share(own_, rows, own_index_);
+  clear_arrays(own_); // the share holds them now (collect_own takes them back)
+}
+
+// The share anew: rows `rows` of `own` (global indices `index`, ascending) and the ghosts
+// received (ghost_, ghost_index_) merged by global index into the spare arrays, then handed to
+// the simulation. Ownership follows each particle's position.
+template <int D>
+void Distributed<D>::merge_share(Particles<D>& own, const std::vector<std::uint32_t>& rows,
+                                 const std::vector<std::uint32_t>& index) {
+  const std::vector<std::uint32_t>& ghost_index = ghost_index_;
   ghosts_ = ghost_index.size();
-  // Merge by global index: share slot k takes own particle i or ghost j.
   std::vector<std::uint32_t> g_order(ghost_index.size());
   std::iota(g_order.begin(), g_order.end(), 0u);
   std::sort(g_order.begin(), g_order.end(),
             [&](std::uint32_t a, std::uint32_t b) { return ghost_index[a] < ghost_index[b]; });
-  const std::size_t n = own_index_.size() + ghost_index.size();
-  std::vector<std::uint32_t> from(n); // own i as i, ghost j as own count + j
+  // Share slot k takes own row i as i, or ghost j as the own count + j.
+  const std::size_t n_own = rows.size(), n = n_own + ghost_index.size();
+  std::vector<std::uint32_t> from(n);
   share_index_.resize(n);
-  share_own_.resize(n);
   for (std::size_t k = 0, i = 0, j = 0; k < n; ++k) {
-    const bool take_own =
-        j == g_order.size() || (i < own_index_.size() && own_index_[i] < ghost_index[g_order[j]]);
-    if (take_own) {
-      from[k] = static_cast<std::uint32_t>(i), share_index_[k] = own_index_[i++];
-      share_own_[k] = 1;
+    if (j == g_order.size() || (i < n_own && index[i] < ghost_index[g_order[j]])) {
+      from[k] = static_cast<std::uint32_t>(i), share_index_[k] = index[i++];
     } else {
-      from[k] = static_cast<std::uint32_t>(own_index_.size() + g_order[j]);
+      from[k] = static_cast<std::uint32_t>(n_own + g_order[j]);
       share_index_[k] = ghost_index[g_order[j++]];
-      share_own_[k] = 0;
     }
   }
   Particles<D> share = std::move(spare_); // the last share's arrays: no new allocation
-  const std::uint32_t n_own = static_cast<std::uint32_t>(own_index_.size());
-  Particles<D>::for_each_array_pair(share, own_, [&](auto& s, auto& o) {
+  Particles<D>::for_each_array_pair(share, own, [&](auto& s, auto& o) {
     s.resize(n);
     for (std::size_t k = 0; k < n; ++k)
-      if (from[k] < n_own) s[k] = o[from[k]];
+      if (from[k] < n_own) s[k] = o[rows[from[k]]];
   });
-  Particles<D>::for_each_array_pair(share, ghost, [&](auto& s, auto& g) {
+  Particles<D>::for_each_array_pair(share, ghost_, [&](auto& s, auto& g) {
     for (std::size_t k = 0; k < n; ++k)
       if (from[k] >= n_own) s[k] = g[from[k] - n_own];
   });
   share.body_begin = body_begin_of(share_index_);
-  clear_arrays(own_); // the share holds them now (collect_own takes them back)
+  set_ownership(share);
   sim_.replace_particles(std::move(share), fields_stand_);
   fields_stand_ = true;
+}
+
+// Each share particle is this process's own if its owner column lies in the slab.
+template <int D>
+void Distributed<D>::set_ownership(const Particles<D>& share) {
+  share_own_.resize(share.size());
+  own_count_ = 0;
+  for (std::size_t k = 0; k < share.size(); ++k) {
+    share_own_[k] = slab_owner(bounds_, owner_column(share.x[k])) == rank_;
+    own_count_ += share_own_[k];
+  }
+}
+
+// Sends each own particle of P (rows of the share, or of own_) to every other process whose
+// slab, widened by ghost_width_ columns, holds its column, and unpacks what the others sent into
+// ghost_ / ghost_index_. Records going to the particle's new owner count as migration.
+template <int D>
+void Distributed<D>::send_ghosts(Particles<D>& P, const std::vector<std::uint32_t>& rows,
+                                 const std::vector<std::uint32_t>& index) {
+  std::vector<std::vector<char>>& out = outgoing_;
+  out.resize(size_);
+  for (auto& o : out)
+    o.clear();
+  double migrating = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const std::size_t p = rows[i];
+    const std::int64_t c = column(P.x[p]);
+    const int q_lo = slab_owner(bounds_, c - ghost_width_);
+    const int q_hi = slab_owner(bounds_, c + ghost_width_);
+    const int owner = slab_owner(bounds_, owner_column(P.x[p]));
+    for (int q = q_lo; q <= q_hi; ++q)
+      if (q != rank_ && c >= bounds_[q] - ghost_width_ && c < bounds_[q + 1] + ghost_width_) {
+        const std::size_t at = out[q].size();
+        pack(P, p, index[i], out[q]);
+        if (q == owner) migrating += static_cast<double>(out[q].size() - at);
+      }
+  }
+  double sent = 0;
+  const std::vector<char>& in = all_to_all(out, sent);
+  ghost_bytes_ += sent - migrating, migration_bytes_ += migrating;
+  clear_arrays(ghost_); // reused: its arrays keep their capacity from step to step
+  ghost_.body_begin = body_begin_;
+  ghost_index_.clear();
+  for (std::size_t pos = 0; pos < in.size();)
+    pos = unpack(in, pos, ghost_, ghost_index_);
+}
+
+// After a step: each process sends its own particles to the neighbours' widened slabs by their
+// new positions. Unless a particle crossed the edge of a widened slab, the share then holds the
+// same particles in the same slots as before, and only the ghosts' slots take the owners'
+// values; otherwise it is merged anew. A particle that crossed into a neighbour's slab is held
+// there as a ghost already, so migration is the change of its owner.
+template <int D>
+void Distributed<D>::refresh_share() {
+  Particles<D>& S = sim_.share_in_place();
+  const std::int64_t reach_lo = bounds_[rank_] - ghost_width_;
+  const std::int64_t reach_hi = bounds_[rank_ + 1] + ghost_width_;
+  std::vector<std::uint32_t>& rows = rows_;   // own slots, still within reach
+  std::vector<std::uint32_t>& index = index_; // their global indices
+  std::vector<std::uint32_t>& ghost_slots = ghost_slots_;
+  rows.clear(), index.clear(), ghost_slots.clear();
+  bool same = true;
+  for (std::size_t k = 0; k < S.size(); ++k) {
+    if (!share_own_[k]) {
+      ghost_slots.push_back(static_cast<std::uint32_t>(k));
+      continue;
+    }
+    const std::int64_t c = column(S.x[k]);
+    if (c < reach_lo || c >= reach_hi) {
+      same = false; // out of reach: it leaves the share
+      continue;
+    }
+    rows.push_back(static_cast<std::uint32_t>(k)), index.push_back(share_index_[k]);
+  }
+  send_ghosts(S, rows, index);
+  // The ghosts arrive in their senders' share order, ascending global index within each sender.
+  std::vector<std::uint32_t>& g_order = g_order_;
+  g_order.resize(ghost_index_.size());
+  std::iota(g_order.begin(), g_order.end(), 0u);
+  std::sort(g_order.begin(), g_order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return ghost_index_[a] < ghost_index_[b];
+  });
+  same = same && g_order.size() == ghost_slots.size();
+  for (std::size_t j = 0; same && j < g_order.size(); ++j)
+    same = ghost_index_[g_order[j]] == share_index_[ghost_slots[j]];
+  if (!same) {
+    ++rebuilds_;
+    Particles<D> last = sim_.take_particles();
+    spare_.body_begin = body_begin_;
+    merge_share(last, rows, index);
+    spare_ = std::move(last);
+    return;
+  }
+  Particles<D>::for_each_array_pair(S, ghost_, [&](auto& s, auto& g) {
+    for (std::size_t j = 0; j < g_order.size(); ++j)
+      s[ghost_slots[j]] = g[g_order[j]];
+  });
+  set_ownership(S);
 }
 
 template <int D>
@@ -355,8 +442,8 @@ void Distributed<D>::step(double dt_limit) {
     }
     // Own particles' positions before the step: none may move more than a cell.
     const Particles<D>& S = sim_.particles();
-    std::vector<Vec<D>> before;
-    before.reserve(own_index_.size());
+    std::vector<Vec<D>>& before = before_;
+    before.clear();
     for (std::size_t k = 0; k < share_own_.size(); ++k)
       if (share_own_[k]) before.push_back(S.x[k]);
     sim_.step(dt_limit);
@@ -370,9 +457,7 @@ void Distributed<D>::step(double dt_limit) {
             "cell ({:.4g} m): reduce the time step (simulation.cfl) or check the case",
             sim_.steps() - 1, sim_.time(), sim_.particles().id[k], dx.norm(), h));
     }
-    collect_own();
-    migrate();
-    build_share();
+    refresh_share();
   } catch (const std::exception& e) {
     abort_run(e);
   }
@@ -453,6 +538,13 @@ void Distributed<D>::min_max(double* lo, double* hi, int n) {
 template <int D>
 bool Distributed<D>::owns_plane(std::int64_t i) const {
   return slab_owner(bounds_, i) == rank_;
+}
+
+// The share holds the cell columns [lo - w, hi + w) of slab [lo, hi); node plane i's sum takes
+// particles of the columns next to it, so no plane outside [lo - w, hi + w + 1) is complete.
+template <int D>
+void Distributed<D>::plane_reach(std::int64_t& lo, std::int64_t& hi) const {
+  lo = bounds_[rank_] - ghost_width_, hi = bounds_[rank_ + 1] + ghost_width_ + 1;
 }
 
 template <int D>

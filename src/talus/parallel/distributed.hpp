@@ -55,10 +55,13 @@ public:
   const std::vector<std::int64_t>& bounds() const { return bounds_; }
   int ghost_width() const { return ghost_width_; }
   std::int64_t rebalances() const { return rebalances_; }
-  std::size_t own_particles() const { return own_index_.size(); }
+  std::size_t own_particles() const { return own_count_; }
   // Whether particle p of the share in sim is this process's own (not a ghost copy).
   bool is_own(std::size_t p) const { return share_own_[p] != 0; }
   std::size_t ghost_particles() const { return ghosts_; }
+  // Steps after which the share was merged anew (a particle crossed a widened slab's edge),
+  // instead of having only its ghosts' values refreshed in place.
+  std::int64_t rebuilds() const { return rebuilds_; }
   // Bytes this process sent since construction: ghost copies, and migrating particles.
   double ghost_bytes_sent() const { return ghost_bytes_; }
   double migration_bytes_sent() const { return migration_bytes_; }
@@ -67,6 +70,7 @@ public:
   double max(double local) override;
   void min_max(double* lo, double* hi, int n) override;
   bool owns_plane(std::int64_t i) const override;
+  void plane_reach(std::int64_t& lo, std::int64_t& hi) const override;
   void sum_disjoint(double* data, std::size_t n) override;
   void chunk_sums(int b, std::size_t begin, std::size_t end, const double* value,
                   std::int64_t chunk, std::vector<double>& sums) override;
@@ -79,9 +83,15 @@ private:
   std::int64_t column(const Vec<D>& x) const;
   void rebalance();
   void sort_own();
-  void build_share();
-  void collect_own();
-  void migrate(); // own particles whose owner column left the slab
+  void build_share(); // the share from own_ and the ghosts the others send
+  void collect_own();  // own_ from the share
+  void migrate();      // own_ particles whose owner column left the slab (after a rebalance)
+  void refresh_share(); // after a step: the ghosts' new values, and ownership
+  void send_ghosts(Particles<D>& P, const std::vector<std::uint32_t>& rows,
+                   const std::vector<std::uint32_t>& index);
+  void merge_share(Particles<D>& own, const std::vector<std::uint32_t>& rows,
+                   const std::vector<std::uint32_t>& index);
+  void set_ownership(const Particles<D>& share);
   void gather_to_root();
   void restore_share();
   // Appends particle p of P (global index g) to buf; unpack appends the record at buf[pos] to P.
@@ -112,12 +122,15 @@ private:
   Particles<D> spare_, ghost_;
   std::vector<std::uint32_t> ghost_index_;
   std::vector<std::vector<char>> outgoing_;
+  std::vector<std::uint32_t> rows_, index_, ghost_slots_, g_order_;
+  std::vector<Vec<D>> before_;
   std::vector<char> send_buf_, recv_buf_;
   Particles<D> parked_share_; // the share, parked while the whole state is in sim
   bool fields_stand_ = true;  // the next share holds the same fixed-body particles as the last
   std::vector<std::uint32_t> pool_size_; // per pore-pool offset: its entry's length (0: none)
   std::size_t record_bytes_ = 0;
-  std::size_t ghosts_ = 0;
+  std::size_t ghosts_ = 0, own_count_ = 0;
+  std::int64_t rebuilds_ = 0;
   std::int64_t rebalances_ = 0;
   double ghost_bytes_ = 0, migration_bytes_ = 0;
 };

@@ -20,6 +20,9 @@ public:
   virtual void min_max(double* lo, double* hi, int n) = 0;
   // Whether this process owns node plane i (x index): its rows of the contact record count.
   virtual bool owns_plane(std::int64_t i) const = 0;
+  // The node planes [lo, hi) whose sums this process's particles can complete: beyond them a
+  // node lacks particles that only other processes hold, so node passes may skip it.
+  virtual void plane_reach(std::int64_t& lo, std::int64_t& hi) const = 0;
   // data[i] <- the sum over the processes, where at most one process holds a nonzero entry i
   // (so the sum is that entry, exactly).
   virtual void sum_disjoint(double* data, std::size_t n) = 0;

@@ -144,8 +144,17 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
   const std::int64_t rows = any ? hi[0] - lo[0] : 0;
   if (record) record_.begin(rows, setup_.record_contact_nodes);
   if (!any) return;
+  // On several processes, only the rows this process's particles can complete: contact at a
+  // node reads and writes that node (and its smoothing neighbours) alone.
+  std::int64_t first = 0, last = rows;
+  if (exchange_) {
+    std::int64_t reach_lo, reach_hi;
+    exchange_->plane_reach(reach_lo, reach_hi);
+    first = std::clamp<std::int64_t>(reach_lo - lo[0], 0, rows);
+    last = std::clamp<std::int64_t>(reach_hi - lo[0], first, rows);
+  }
 #pragma omp parallel for schedule(dynamic, 4)
-  for (std::int64_t r = 0; r < rows; ++r) {
+  for (std::int64_t r = first; r < last; ++r) {
     Index<D> g = lo;
     g[0] = lo[0] + r;
     while (true) {
