@@ -288,9 +288,8 @@ void Distributed<D>::refresh_share() {
   std::vector<std::uint32_t>& g_order = g_order_;
   g_order.resize(ghost_index_.size());
   std::iota(g_order.begin(), g_order.end(), 0u);
-  std::sort(g_order.begin(), g_order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return ghost_index_[a] < ghost_index_[b];
-  });
+  std::sort(g_order.begin(), g_order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return ghost_index_[a] < ghost_index_[b]; });
   same = same && g_order.size() == ghost_slots.size();
   for (std::size_t j = 0; same && j < g_order.size(); ++j)
     same = ghost_index_[g_order[j]] == share_index_[ghost_slots[j]];

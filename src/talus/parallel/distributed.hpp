@@ -83,9 +83,9 @@ private:
   std::int64_t column(const Vec<D>& x) const;
   void rebalance();
   void sort_own();
-  void build_share(); // the share from own_ and the ghosts the others send
-  void collect_own();  // own_ from the share
-  void migrate();      // own_ particles whose owner column left the slab (after a rebalance)
+  void build_share();   // the share from own_ and the ghosts the others send
+  void collect_own();   // own_ from the share
+  void migrate();       // own_ particles whose owner column left the slab (after a rebalance)
   void refresh_share(); // after a step: the ghosts' new values, and ownership
   void send_ghosts(Particles<D>& P, const std::vector<std::uint32_t>& rows,
                    const std::vector<std::uint32_t>& index);
