@@ -109,9 +109,9 @@ int run_bench(const BenchOptions& opt) {
         if (dist->rank() == 0)
           fmt::print("  {} processes: {:.0f} ghost particles ({:.1f} % of the particles), "
                      "{:.0f} kB of ghosts and {:.0f} B of migration a step; the share merged "
-                     "anew after {:.0f} of {} steps (sorts and rebalances aside)\n",
+                     "anew after {:.0f} of {} steps (sorts and rebalances aside); {} rebalances\n",
                      dist->size(), ghosts, 100.0 * ghosts / n, figures[2] / 1e3, figures[3],
-                     figures[4], pb.steps);
+                     figures[4], pb.steps, dist->rebalances());
       }
 #endif
       const double bytes = rise / n, process_bytes = peak / n;

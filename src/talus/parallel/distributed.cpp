@@ -81,10 +81,16 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t reba
   build_share();
 }
 
+// A cell inside the grid across x has cell_index / cells_per_column = its x index (after the
+// clamp also for x outside); only a cell outside across x needs the division.
 template <int D>
 std::int64_t Distributed<D>::owner_column(const Vec<D>& x) const {
   const Grid<D>& G = sim_.grid();
-  return std::clamp<std::int64_t>(G.cell_index(G.cell_of(x)) / cells_per_column_, 0,
+  const Index<D> c = G.cell_of(x);
+  bool across = true;
+  for (int d = 1; d < D; ++d)
+    across = across && c[d] >= 0 && c[d] < G.cells[d];
+  return std::clamp<std::int64_t>(across ? c[0] : G.cell_index(c) / cells_per_column_, 0,
                                   G.cells[0] - 1);
 }
 
@@ -530,8 +536,13 @@ double Distributed<D>::max(double local) {
 
 template <int D>
 void Distributed<D>::min_max(double* lo, double* hi, int n) {
-  MPI_Allreduce(MPI_IN_PLACE, lo, n, MPI_DOUBLE, MPI_MIN, comm_);
-  MPI_Allreduce(MPI_IN_PLACE, hi, n, MPI_DOUBLE, MPI_MAX, comm_);
+  // One reduction: min lo = -max(-lo), exactly (negation is exact).
+  std::vector<double> both(2 * static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i)
+    both[i] = -lo[i], both[n + i] = hi[i];
+  MPI_Allreduce(MPI_IN_PLACE, both.data(), 2 * n, MPI_DOUBLE, MPI_MAX, comm_);
+  for (int i = 0; i < n; ++i)
+    lo[i] = -both[i], hi[i] = both[n + i];
 }
 
 template <int D>
@@ -571,18 +582,19 @@ void Distributed<D>::chunk_sums(int b, std::size_t begin, std::size_t end, const
   std::int64_t slots = 0;
   for (std::int64_t c = 0; c < chunks; ++c)
     if (!whole[c]) slot[c] = slots, slots += length(c);
-  sums.assign(chunks, 0.0);
-  std::vector<double> split(slots, 0.0);
+  // One buffer, one sum: the whole chunks' sums, then the split chunks' slots.
+  std::vector<double> both(static_cast<std::size_t>(chunks + slots), 0.0);
+  double* split = both.data() + chunks;
   for (std::size_t p = begin; p < end; ++p) {
     if (!share_own_[p]) continue;
     const std::int64_t g = share_index_[p] - first, c = g / chunk;
     if (here[c] == length(c))
-      sums[c] += value[p];
+      both[c] += value[p];
     else
       split[slot[c] + (g - c * chunk)] = value[p];
   }
-  sum_disjoint(sums.data(), sums.size());
-  sum_disjoint(split.data(), split.size());
+  sum_disjoint(both.data(), both.size());
+  sums.assign(both.begin(), both.begin() + chunks);
   for (std::int64_t c = 0; c < chunks; ++c) {
     if (whole[c]) continue;
     double s = 0.0;
