@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <utility>
 
 namespace talus {
 
@@ -130,6 +131,7 @@ void Simulation<D>::step(double dt_limit) {
 template <int D>
 void Simulation<D>::begin_step(double dt_limit) {
   bad_particle_ = no_particle; // a phase run on its own before (tests) leaves nothing behind
+  pending_failure_.clear();
   if (!particles_checked_) check_particles(), particles_checked_ = true;
   const double stable = compute_time_step();
   const TimeStepSetup& ts = setup_.time_step;
@@ -150,6 +152,7 @@ void Simulation<D>::begin_step(double dt_limit) {
 // step's first bad particle before anything (output, a checkpoint, the next step) reads it.
 template <int D>
 void Simulation<D>::end_step() {
+  if (!pending_failure_.empty()) throw SimulationError(std::exchange(pending_failure_, {}));
   invalidate_shape(); // the particles have moved
   record_.accumulate(dt_);
   time_ += dt_;

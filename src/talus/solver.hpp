@@ -302,6 +302,7 @@ private:
   // at the next step's start.
   static constexpr std::size_t no_particle = std::numeric_limits<std::size_t>::max();
   std::size_t bad_particle_ = no_particle;
+  std::string pending_failure_; // a failure found mid-step (det F <= 0), thrown at its end
   bool particles_checked_ = false;
   bool settling_ = false;
   std::vector<std::uint32_t> index_of_id_;

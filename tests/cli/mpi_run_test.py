@@ -121,6 +121,20 @@ if rc != 0:
 else:
     compare(ref, d, "killed on 2 processes, restarted on 1")
 
+# A blow-up (a fixed step 25 times the CFL limit) on 2 processes: every process stops with the
+# first failing process's message, and summary.json says "failed" with it, as on one process.
+d = fresh("unstable")
+rc, out = run([*mpi(2, 1), "run", str(source / "cases/examples/block_on_floor.toml"), "--out",
+               str(d), "--set", "simulation.dt=0.01", "--set", "checkpoint.every=0.01"], 1,
+              timeout=300)
+summary = json.loads((d / "summary.json").read_text())
+message = summary.get("message", "")
+if rc != 1 or summary["status"] != "failed":
+    failures.append(f"unstable: exit {rc}, status {summary['status']}: {out[-800:]}")
+for part in ("process ", " of 2: step ", "time ", "particle ", "det F", "last good checkpoint: "):
+    if part not in message:
+        failures.append(f"unstable: the summary's message lacks '{part}': {message}")
+
 # A grid too narrow for the processes' slabs.
 d = fresh("narrow")
 rc, out = run([*mpi(4, 1), "run", str(source / "cases/benchmarks/cohesive_block.toml"), "--out",
@@ -132,4 +146,4 @@ if failures:
     print("\n".join(failures))
     sys.exit(1)
 print("mpi run folders identical to the one-process run (2, 3 processes x 1, 2 threads; "
-      "2 -> 3 restart; killed process; narrow grid refused)")
+      "2 -> 3 restart; killed process; blow-up reported as failed; narrow grid refused)")

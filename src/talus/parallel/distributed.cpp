@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fmt/format.h>
 #include <numeric>
+#include <string>
 #include <type_traits>
 
 namespace talus {
@@ -56,6 +57,9 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t reba
         (k + 1 < entries.size() ? entries[k + 1].first : sim_.pore_state().size()) -
         entries[k].first);
 
+  // The whole state, the same on every process, is checked here: a bad particle in it stops
+  // every process alike, before any share's first step could stop one alone.
+  sim_.check_particles();
   Particles<D> all = sim_.take_particles();
   body_begin_ = all.body_begin;
   std::vector<std::int64_t> counts(static_cast<std::size_t>(G.cells[0]), 0);
@@ -451,21 +455,45 @@ void Distributed<D>::step(double dt_limit) {
     before.clear();
     for (std::size_t k = 0; k < share_own_.size(); ++k)
       if (share_own_[k]) before.push_back(S.x[k]);
-    sim_.step(dt_limit);
-    const double h = sim_.grid().h;
-    for (std::size_t k = 0, i = 0; k < share_own_.size(); ++k) {
-      if (!share_own_[k]) continue;
-      const Vec<D> dx = sim_.particles().x[k] - before[i++];
-      if (dx.cwiseAbs().maxCoeff() > h)
-        throw SimulationError(fmt::format(
-            "step {}, time {:.6g} s: particle id {} moved {:.4g} m in one step, more than a "
-            "cell ({:.4g} m): reduce the time step (simulation.cfl) or check the case",
-            sim_.steps() - 1, sim_.time(), sim_.particles().id[k], dx.norm(), h));
+    // A failure the step reports (at its end, past its collective points: a bad particle, det F
+    // <= 0, a collapsed time step) is agreed on, and every process stops with the first one.
+    std::string failure;
+    try {
+      sim_.step(dt_limit);
+      const double h = sim_.grid().h;
+      for (std::size_t k = 0, i = 0; k < share_own_.size(); ++k) {
+        if (!share_own_[k]) continue;
+        const Vec<D> dx = sim_.particles().x[k] - before[i++];
+        if (dx.cwiseAbs().maxCoeff() > h)
+          throw SimulationError(fmt::format(
+              "step {}, time {:.6g} s: particle id {} moved {:.4g} m in one step, more than a "
+              "cell ({:.4g} m): reduce the time step (simulation.cfl) or check the case",
+              sim_.steps() - 1, sim_.time(), sim_.particles().id[k], dx.norm(), h));
+      }
+    } catch (const SimulationError& e) {
+      failure = e.what();
     }
+    agree_on_failure(failure);
     refresh_share();
+  } catch (const SimulationError&) {
+    throw; // every process throws it
   } catch (const std::exception& e) {
     abort_run(e);
   }
+}
+
+// The lowest process that failed sends its message; every process then throws it.
+template <int D>
+void Distributed<D>::agree_on_failure(std::string failure) {
+  int first = failure.empty() ? size_ : rank_;
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm_);
+  if (first == size_) return;
+  if (rank_ == first) failure = fmt::format("process {} of {}: {}", rank_, size_, failure);
+  int n = static_cast<int>(failure.size());
+  MPI_Bcast(&n, 1, MPI_INT, first, comm_);
+  failure.resize(static_cast<std::size_t>(n));
+  MPI_Bcast(failure.data(), n, MPI_CHAR, first, comm_);
+  throw SimulationError(failure);
 }
 
 template <int D>

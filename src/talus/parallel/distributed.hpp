@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <mpi.h>
+#include <string>
 #include <vector>
 
 namespace talus {
@@ -36,7 +37,8 @@ public:
   Distributed& operator=(const Distributed&) = delete;
   ~Distributed() override { sim_.set_exchange(nullptr); }
 
-  // One step on every process (collective). A step that fails on any process stops all of them.
+  // One step on every process (collective). A step that fails on any process throws its
+  // SimulationError, named with the process, on every process; any other error stops them all.
   void step(double dt_limit = inf);
   // The end of settling (Simulation::release), with the elastic energy at release of the whole.
   void release();
@@ -103,6 +105,7 @@ private:
   // body_begin of particles sorted by global index.
   std::vector<std::size_t> body_begin_of(const std::vector<std::uint32_t>& index) const;
   [[noreturn]] void abort_run(const std::exception& e) const;
+  void agree_on_failure(std::string failure); // throws the first process's failure everywhere
 
   Simulation<D>& sim_;
   MPI_Comm comm_;

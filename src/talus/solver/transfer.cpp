@@ -428,12 +428,13 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
       internal_work_[b] += chunk_work_[c];
   }
   bad_particle_ = std::min(bad_particle_, gone.load());
-  if (const std::size_t p = bad.load(); p != P.size())
-    throw SimulationError(fmt::format(
+  // Reported at the step's end, so that every process reaches the step's collective points.
+  if (const std::size_t p = bad.load(); p != P.size() && pending_failure_.empty())
+    pending_failure_ = fmt::format(
         "step {}, time {:.6g} s: body '{}', particle {} (id {}) at ({}): det F = {:.3g} <= 0 "
         "(the particle turned inside out; reduce the time step or check the case)",
         steps_, time_, setup_.bodies[b].name, p, P.id[p],
-        fmt::join(P.x[p].data(), P.x[p].data() + D, ", "), P.F[p].determinant()));
+        fmt::join(P.x[p].data(), P.x[p].data() + D, ", "), P.F[p].determinant());
 }
 
 #define TALUS_INSTANTIATE(D)                                                                       \
