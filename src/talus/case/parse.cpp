@@ -2,6 +2,7 @@
 
 #include "talus/case/geometry.hpp"
 #include "talus/case/read_geometry.hpp"
+#include "talus/case/read_outputs.hpp"
 #include "talus/case/run_entries.hpp"
 #include "talus/case/size.hpp"
 #include "talus/case/toml_reader.hpp"
@@ -156,15 +157,6 @@ Material read_material(TableReader& r) {
           "only for the plastic models: an elastic particle's tension would keep growing while "
           "its volume stays at the limit");
   return m;
-}
-
-// The names of a case's materials, bodies, ... in order (for lookups and "did you mean").
-template <class T>
-std::vector<std::string> names_of(const std::vector<T>& items) {
-  std::vector<std::string> names;
-  for (const T& x : items)
-    names.push_back(x.name);
-  return names;
 }
 
 // [[material]]: the named materials (at least one).
@@ -451,122 +443,6 @@ void read_water(TableReader& root, Case& c) {
                           c.water.density, m.name, m.density(), b.name));
   }
   rw.finish();
-}
-
-// [results]: the body whose motion the summary reports.
-void read_results(TableReader& root, Case& c) {
-  const std::vector<std::string> body_names = names_of(c.bodies);
-  if (const toml::table* res = root.table("results")) {
-    TableReader rr(*res, "results", root.where());
-    c.results.body = lookup(rr, "body", body_names, "body");
-    c.results.stop_speed = rr.number("stop_speed", 0.5);
-    require(rr, "stop_speed", c.results.stop_speed > 0.0, "must be > 0 m/s");
-    rr.finish();
-  }
-}
-
-// [[probe]]: particles followed by name.
-void read_probes(TableReader& root, Case& c) {
-  const int dim = c.simulation.dimension;
-  const std::vector<std::string> body_names = names_of(c.bodies);
-  for_each_entry(root, "probe", [&](TableReader& r, std::size_t i) {
-    ProbeSpec p;
-    p.name = r.name("name", fmt::format("probe{}", i));
-    for (const ProbeSpec& q : c.probes)
-      if (q.name == p.name) r.fail("name", "two probes have this name");
-    p.body = lookup(r, "body", body_names, "body");
-    p.near = r.vector("near", dim);
-    for (int d = 0; d < dim; ++d)
-      if (p.near[d] < c.grid.origin[d] || p.near[d] > c.grid.origin[d] + c.grid.extent[d])
-        r.fail("near", fmt::format("the point is outside the grid along {}", "xyz"[d]));
-    c.probes.push_back(p);
-  });
-}
-
-// [output]: the frames and their fields.
-void read_output(TableReader& root, Case& c) {
-  if (const toml::table* out = root.table("output")) {
-    TableReader ro(*out, "output", root.where());
-    c.output.every = ro.number("every", 0.0);
-    require(ro, "every", c.output.every >= 0.0, "must be >= 0 s");
-    c.output.particles = ro.boolean("particles", true);
-    c.output.contact_nodes = ro.boolean("contact_nodes", false);
-    c.output.float64_fields =
-        ro.choice("precision", {"float32", "float64"}, "float32") == "float64";
-    c.output.float32_positions =
-        ro.choice("position_precision", {"float64", "float32"}, "float64") == "float32";
-    if (const toml::array* f = ro.array("fields")) {
-      const std::vector<std::string> known = {
-          "velocity", "stress",   "displacement", "mass",  "volume",        "plastic_strain",
-          "body",     "material", "interface",    "field", "pore_pressure", "band_temperature"};
-      for (std::size_t i = 0; i < f->size(); ++i) {
-        const auto s = f->get(i)->value<std::string>();
-        if (!s)
-          ro.where().fail(f->get(i)->source(), fmt::format("output.fields[{}]", i),
-                          fmt::format("expected a field name (a string), got {}",
-                                      TableReader::type_name(*f->get(i))));
-        if (std::find(known.begin(), known.end(), *s) == known.end())
-          ro.where().fail(f->get(i)->source(), fmt::format("output.fields[{}]", i),
-                          fmt::format("unknown field '{}'{}", *s, suggest(*s, known)));
-        c.output.fields.push_back(*s);
-      }
-    }
-    ro.finish();
-  }
-}
-
-// [checkpoint]: how often checkpoints are written and how many are kept.
-void read_checkpoint(TableReader& root, Case& c) {
-  if (const toml::table* ck = root.table("checkpoint")) {
-    TableReader rc(*ck, "checkpoint", root.where());
-    c.checkpoint.every = rc.number("every", 0.0);
-    require(rc, "every", c.checkpoint.every >= 0.0, "must be >= 0 s (0: off)");
-    c.checkpoint.wall_minutes = rc.number("wall_minutes", c.checkpoint.wall_minutes);
-    require(rc, "wall_minutes", c.checkpoint.wall_minutes >= 0.0, "must be >= 0 min (0: off)");
-    c.checkpoint.keep = rc.integer("keep", 2, 1, 100);
-    rc.finish();
-  }
-}
-
-// [[check]]: verification checks (talus verify).
-void read_checks(TableReader& root, Case& c) {
-  const int dim = c.simulation.dimension;
-  for_each_entry(root, "check", [&](TableReader& r, std::size_t) {
-    CheckSpec k;
-    k.name = r.name("name", "");
-    for (const CheckSpec& q : c.checks)
-      if (q.name == k.name) r.fail("name", "two checks have this name");
-    k.quantity = r.name("quantity", "");
-    k.source = r.name("source", "");
-    if (r.has("known_miss")) k.known_miss = r.name("known_miss", "");
-    k.set = string_list(r, "set");
-    k.time = r.optional_number("time");
-    if (k.time) require(r, "time", *k.time >= 0.0, "must be >= 0 s");
-    k.reference = r.optional_number("reference");
-    k.tolerance = r.optional_number("tolerance");
-    k.abs_tolerance = r.optional_number("abs_tolerance");
-    k.min = r.optional_number("min");
-    k.max = r.optional_number("max");
-    if (k.tolerance) require(r, "tolerance", *k.tolerance > 0.0, "must be > 0 (relative)");
-    if (k.abs_tolerance) require(r, "abs_tolerance", *k.abs_tolerance > 0.0, "must be > 0");
-    if (k.reference.has_value() == (k.min || k.max))
-      r.fail("reference", "give a reference (with tolerance or abs_tolerance) or min/max bounds");
-    if (k.reference && !k.tolerance && !k.abs_tolerance)
-      r.fail("tolerance", "a reference needs tolerance (relative) or abs_tolerance");
-    if (r.has("direction")) r.vector("direction", dim);
-    if (r.has("near")) r.vector("near", dim);
-    c.checks.push_back(k);
-  });
-}
-
-// [verify]: the overrides of talus verify --quick and --full.
-void read_verify(TableReader& root, Case& c) {
-  if (const toml::table* v = root.table("verify")) {
-    TableReader rv(*v, "verify", root.where());
-    c.verify.quick = string_list(rv, "quick");
-    c.verify.full = string_list(rv, "full");
-    rv.finish();
-  }
 }
 
 } // namespace

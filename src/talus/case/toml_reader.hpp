@@ -220,6 +220,15 @@ inline void require(TableReader& r, const std::string& key, bool ok, const std::
   if (!ok) r.fail(key, msg);
 }
 
+// The names of a case's materials, bodies, ... in order (for lookups and "did you mean").
+template <class T>
+std::vector<std::string> names_of(const std::vector<T>& items) {
+  std::vector<std::string> names;
+  for (const T& x : items)
+    names.push_back(x.name);
+  return names;
+}
+
 // Which of a list of named things a key refers to.
 inline int lookup(TableReader& r, const std::string& key, const std::vector<std::string>& names,
                   const std::string& what) {

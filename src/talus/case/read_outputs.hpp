@@ -1,0 +1,17 @@
+// Reading the tables of a case file that say what a run reports: [results], [[probe]],
+// [output], [checkpoint], [[check]] (talus verify) and [verify].
+#pragma once
+
+#include "talus/case/case.hpp"
+#include "talus/case/toml_reader.hpp"
+
+namespace talus::case_reading {
+
+void read_results(TableReader& root, Case& c);
+void read_probes(TableReader& root, Case& c);
+void read_output(TableReader& root, Case& c);
+void read_checkpoint(TableReader& root, Case& c);
+void read_checks(TableReader& root, Case& c);
+void read_verify(TableReader& root, Case& c);
+
+} // namespace talus::case_reading
