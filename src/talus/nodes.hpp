@@ -1,9 +1,11 @@
 // BodyField<D>: one body's velocity field on the grid (multi-velocity-field contact, paper
 // section 2.3), structure of arrays. It covers only the box of nodes the body's particles reach,
-// refitted every step, so a small body on a large grid costs a small field.
+// refitted every step, so a small body on a large grid costs a small field. On several processes
+// each process stores only the part of the box its own and ghost particles reach.
 #pragma once
 
 #include "talus/grid.hpp"
+#include "talus/shape.hpp"
 
 #include <algorithm>
 #include <vector>
@@ -12,8 +14,12 @@ namespace talus {
 
 template <int D>
 struct BodyField {
-  Grid<D> box;                 // the sub-grid: same cell size, origin at node `offset`
-  Index<D> offset{};           // global node coordinates of the box's first node
+  Grid<D> box;       // the stored sub-grid: same cell size, origin at node `offset`
+  Index<D> offset{}; // global node coordinates of the box's first node
+  // The frame: the box spanning every process's particles of the body (on one process, the box
+  // itself). Shape weights are taken relative to its origin, so they are one process's bits.
+  Grid<D> frame;
+  Index<D> frame_offset{};
   std::vector<double> m;       // mass M_I (eq. 14)
   std::vector<Vec<D>> p;       // momentum p_I (eq. 16); MUSL: re-mapped from updated particles
   std::vector<Vec<D>> f;       // internal + external force (eq. 17-18)
@@ -49,15 +55,20 @@ struct BodyField {
   // Refits the box to global node range [lo, hi) and clears the mapped quantities. Vectors only
   // grow, so a steady run stops allocating after its first steps.
   void fit(const Grid<D>& grid, const Index<D>& lo, const Index<D>& hi) {
+    fit(grid, lo, hi, lo, hi);
+  }
+
+  // Refits the frame to global node range [frame_lo, frame_hi) and the stored box to [lo, hi)
+  // inside it, and clears the mapped quantities.
+  void fit(const Grid<D>& grid, const Index<D>& frame_lo, const Index<D>& frame_hi,
+           const Index<D>& lo, const Index<D>& hi) {
+    frame_offset = frame_lo;
+    frame = sub_grid(grid, frame_lo, frame_hi);
     offset = lo;
-    box.h = grid.h;
+    box = sub_grid(grid, lo, hi);
     std::size_t n = 1;
-    for (int d = 0; d < D; ++d) {
-      box.nodes[d] = std::max<std::int64_t>(hi[d] - lo[d], 1);
-      box.cells[d] = box.nodes[d] - 1;
-      box.origin[d] = grid.origin[d] + grid.h * static_cast<double>(lo[d]);
+    for (int d = 0; d < D; ++d)
       n *= static_cast<std::size_t>(box.nodes[d]);
-    }
     auto clear = [n](auto& a, const auto& zero) { a.assign(n, zero); };
     for (auto* a : {&v, &v_new})
       a->resize(n);
@@ -75,6 +86,14 @@ struct BodyField {
     if (needs.interfaces && needs.heating) heat.assign(n * static_cast<std::size_t>(slots), 0.0);
   }
 
+  // The shape weights of the point x, taken on the frame and indexed in the stored box: every
+  // node of a particle's support lies in the box or outside the grid (zero weight, clamped).
+  void weights(ShapeWeights<D>& sw, ShapeKind kind, const GimpFactors& f, const Vec<D>& x) const {
+    evaluate_shape(sw, frame, kind, f, x);
+    for (int d = 0; d < D; ++d)
+      sw.base[d] += frame_offset[d] - offset[d];
+  }
+
   // Local index of global node coordinates, or -1 outside the box.
   std::int64_t local(const Index<D>& global) const {
     std::int64_t n = 0;
@@ -84,6 +103,19 @@ struct BodyField {
       n = n * box.nodes[d] + i;
     }
     return n;
+  }
+
+private:
+  // The sub-grid of global node range [lo, hi), at least one node per direction.
+  static Grid<D> sub_grid(const Grid<D>& grid, const Index<D>& lo, const Index<D>& hi) {
+    Grid<D> g;
+    g.h = grid.h;
+    for (int d = 0; d < D; ++d) {
+      g.nodes[d] = std::max<std::int64_t>(hi[d] - lo[d], 1);
+      g.cells[d] = g.nodes[d] - 1;
+      g.origin[d] = grid.origin[d] + grid.h * static_cast<double>(lo[d]);
+    }
+    return g;
   }
 };
 

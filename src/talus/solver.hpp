@@ -278,6 +278,7 @@ private:
   std::vector<std::size_t> bin_offset_;
   std::vector<std::uint32_t> particle_bin_;
   std::vector<double> box_bounds_;           // fit_body_fields' per-body particle bounds
+  std::vector<double> box_bounds_local_;     // the same, of this process's particles alone
   static constexpr int orphan_interval = 10; // steps between update_orphans()
 
   ContactRecord<D> record_;

@@ -42,7 +42,31 @@ struct Outcome {
   std::uint64_t hash = 0;
   std::int64_t rebalances = 0; // on world's rank 0
   std::size_t fewest_own = 0;  // the fewest particles any process owned at the end
+  bool boxes_in_reach = true;  // every process's field boxes inside its slab's reach
+  double box_share = 1.0;      // the most nodes a process stores over the frames' nodes
 };
+
+// Whether each body field this process stores stays within its slab, the ghosts' columns and the
+// shape functions' reach beyond them (one column of slack for a step's motion), and the most
+// field nodes any process stores as a share of the bodies' whole frames.
+template <int D>
+void check_boxes(const Distributed<D>& dist, const Simulation<D>& sim, Outcome& out) {
+  const std::int64_t lo = dist.bounds()[dist.rank()] - dist.ghost_width() - 2;
+  const std::int64_t hi = dist.bounds()[dist.rank() + 1] + dist.ghost_width() + 4;
+  int inside = 1;
+  double stored = 0.0, framed = 0.0;
+  for (const BodyField<D>& N : sim.fields()) {
+    stored += static_cast<double>(N.box.num_nodes());
+    framed += static_cast<double>(N.frame.num_nodes());
+    if (N.box.num_nodes() <= 1) continue; // the body has no particles here
+    inside &= N.offset[0] >= lo && N.offset[0] + N.box.nodes[0] <= hi;
+  }
+  double share = stored / framed;
+  MPI_Allreduce(MPI_IN_PLACE, &inside, 1, MPI_INT, MPI_MIN, dist.comm());
+  MPI_Allreduce(MPI_IN_PLACE, &share, 1, MPI_DOUBLE, MPI_MAX, dist.comm());
+  out.boxes_in_reach = inside != 0;
+  out.box_share = share;
+}
 
 // Steps [from, to) of the golden schedule (settling, release, then the run).
 template <int D>
@@ -77,7 +101,11 @@ Outcome run_distributed(const Case& c, const GoldenCase& g, int split) {
     if (g.settle_steps > 0) sim.set_settling(true);
     Distributed<D> dist(sim, MPI_COMM_WORLD, rebalance_every, start<D>);
     advance(dist, g, 0, total);
-    return finish(dist);
+    Outcome out;
+    check_boxes(dist, sim, out);
+    const Outcome whole = finish(dist);
+    out.hash = whole.hash, out.rebalances = whole.rebalances, out.fewest_own = whole.fewest_own;
+    return out;
   }
   const int first_size = std::max(world_size() - 1, 1);
   MPI_Comm first = MPI_COMM_NULL;
@@ -130,8 +158,11 @@ TEST_P(OnProcesses, HashOfOneProcessAndAcrossACheckpointFromFewerProcesses) {
       << fmt::format(": continued on {} processes from a checkpoint of {}", world_size(),
                      std::max(world_size() - 1, 1));
   if (world_rank() == 0)
-    fmt::print("  {}: {} processes, {} rebalances, fewest own particles {}\n", g.name, world_size(),
-               whole.rebalances, whole.fewest_own);
+    fmt::print("  {}: {} processes, {} rebalances, fewest own particles {}, field "
+               "nodes {:.0f} % of the frames'\n",
+               g.name, world_size(), whole.rebalances, whole.fewest_own, 100 * whole.box_share);
+  // Each process stores only the part of a body's field its own and ghost particles reach.
+  EXPECT_TRUE(whole.boxes_in_reach) << g.name << ": a field box reaches past the slab's ghosts";
   // The column stands in the grid's corner: the even first slabs leave processes without
   // particles, and the rebalance moves the slabs onto it.
   if (world_size() > 1 && std::string(g.name).starts_with("column_")) {

@@ -15,7 +15,8 @@ namespace {
 using detail::heaviest_other;
 using detail::is_slave;
 
-// The global node range [lo, hi) where at least two bodies' boxes overlap; false if none do.
+// The global node range [lo, hi) where at least two bodies' frames overlap (the same on every
+// process); false if none do. A node outside a body's stored box has none of its mass here.
 template <int D>
 bool shared_nodes(const std::vector<BodyField<D>>& fields, Index<D>& lo, Index<D>& hi) {
   const int B = static_cast<int>(fields.size());
@@ -25,9 +26,9 @@ bool shared_nodes(const std::vector<BodyField<D>>& fields, Index<D>& lo, Index<D
       Index<D> l, h;
       bool overlap = true;
       for (int d = 0; d < D; ++d) {
-        l[d] = std::max(fields[a].offset[d], fields[b].offset[d]);
-        h[d] = std::min(fields[a].offset[d] + fields[a].box.nodes[d],
-                        fields[b].offset[d] + fields[b].box.nodes[d]);
+        l[d] = std::max(fields[a].frame_offset[d], fields[b].frame_offset[d]);
+        h[d] = std::min(fields[a].frame_offset[d] + fields[a].frame.nodes[d],
+                        fields[b].frame_offset[d] + fields[b].frame.nodes[d]);
         overlap = overlap && l[d] < h[d];
       }
       if (!overlap) continue;

@@ -164,19 +164,33 @@ void Simulation<D>::fit_body_fields() {
           hi_[f * D + d] = std::max(hi_[f * D + d], P.x[p][d]);
         }
   }
-  // On several processes each box spans every process's particles: the boxes, and with them
-  // the shape weights (relative to the box) and the contact rows, are one process's.
-  if (exchange_) exchange_->min_max(lo_, hi_, B * D);
-  for (int b = 0; b < B; ++b) {
-    if (field_held_[b]) continue; // its box and sums stand
-    const Vec<D> lo = Eigen::Map<const Vec<D>>(lo_ + b * D),
-                 hi = Eigen::Map<const Vec<D>>(hi_ + b * D);
-    Index<D> first = grid_.cell_of(lo), last = grid_.cell_of(hi);
+  // The nodes [cell(lo) - 1, cell(hi) + 3) hold the support of every point in [lo, hi].
+  auto node_range = [&](const double* lo, const double* hi, Index<D>& first, Index<D>& last) {
+    first = grid_.cell_of(Eigen::Map<const Vec<D>>(lo));
+    last = grid_.cell_of(Eigen::Map<const Vec<D>>(hi));
     for (int d = 0; d < D; ++d) {
       first[d] = std::clamp<std::int64_t>(first[d] - 1, 0, grid_.nodes[d]);
       last[d] = std::clamp<std::int64_t>(last[d] + 3, 0, grid_.nodes[d]);
     }
-    fields_[b].fit(grid_, first, last);
+  };
+  // On several processes each frame spans every process's particles: the frames, and with them
+  // the shape weights (relative to the frame) and the contact rows, are one process's. Each
+  // process stores the part of the frame its own and ghost particles reach.
+  std::vector<double>& mine = box_bounds_local_;
+  mine.assign(bounds.begin(), bounds.end());
+  if (exchange_) exchange_->min_max(lo_, hi_, B * D);
+  for (int b = 0; b < B; ++b) {
+    if (field_held_[b]) continue; // its box and sums stand
+    Index<D> frame_first, frame_last, first, last;
+    node_range(lo_ + b * D, hi_ + b * D, frame_first, frame_last);
+    const double *l = mine.data() + b * D, *h = mine.data() + (B + b) * D;
+    if (!exchange_)
+      first = frame_first, last = frame_last;
+    else if (l[0] <= h[0]) // the process holds particles of the body
+      node_range(l, h, first, last);
+    else
+      first = last = frame_first; // none: one empty node
+    fields_[b].fit(grid_, frame_first, frame_last, first, last);
   }
 }
 
@@ -203,7 +217,8 @@ bool Simulation<D>::reaches_other_body(int b, const ShapeWeights<D>& sw, int mar
     bool overlap = true;
     for (int d = 0; d < D && overlap; ++d) {
       const std::int64_t first = N.offset[d] + sw.base[d], last = first + sw.k[d] - 1;
-      overlap = last >= O.offset[d] - margin && first < O.offset[d] + O.box.nodes[d] + margin;
+      overlap = last >= O.frame_offset[d] - margin &&
+                first < O.frame_offset[d] + O.frame.nodes[d] + margin;
     }
     if (overlap) return true;
   }
@@ -221,7 +236,7 @@ void Simulation<D>::scatter_particles() {
     const int f = P.field[p]; // b, or the host of an orphan
     BodyField<D>& N = fields_[f];
     ShapeWeights<D>& sw = shape_[p];
-    evaluate_shape(sw, N.box, kind, setup_.bodies[b].gimp, P.x[p]);
+    N.weights(sw, kind, setup_.bodies[b].gimp, P.x[p]);
     const double m_p = P.m[p];
     const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
