@@ -54,8 +54,7 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   normal_cache_.resize(B);
   for (int b = 0; b < B; ++b)
     if (setup_.bodies[b].normal_geometry)
-      normal_cache_[b].assign(static_cast<std::size_t>(grid_.num_nodes()),
-                              Vec<D>::Constant(std::numeric_limits<double>::quiet_NaN()));
+      normal_cache_[b].resize(static_cast<std::size_t>(grid_.nodes[0]));
   record_.resize(B, setup_.interfaces.size());
   internal_work_.assign(B, 0.0);
   // Slab width: GIMP writes nodes [cell-1, cell+2], so slabs of 4 cells keep two slabs of one

@@ -20,6 +20,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace talus {
@@ -205,6 +206,7 @@ public:
   // Contact on one velocity array of every body field (v, v_new or v_remap); `record` keeps its
   // forces, work, contact nodes and the interfaces' slip rates.
   void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, bool record);
+  Vec<D> geometric_normal(int b, const Index<D>& g);
   void exchange_particle_halos() {} // one process: every particle's nodes are here
   // G2P of the velocity and position (eq. 22-23), from v and v_new.
   void update_particles(double dt);
@@ -266,9 +268,9 @@ private:
   Setup<D> setup_;
   std::vector<BodyField<D>> fields_; // one per body
   std::vector<char> field_held_;     // per body: its field stands from an earlier step
-  // Per body with geometric_normal: its surface normal at every grid node, filled as contact
-  // first meets the node (NaN: not yet); unused for rigid bodies that move.
-  std::vector<std::vector<Vec<D>>> normal_cache_;
+  // Per body with geometric_normal, per node row along x: its surface normal at the contact
+  // nodes met so far (geometric_normal). Unused for rigid bodies that move.
+  std::vector<std::vector<std::unordered_map<std::int64_t, Vec<D>>>> normal_cache_;
 
   // Slab binning for the coloured scatter: particles of slab s and body b are
   // bin_index_[bin_offset_[s * B + b] .. bin_offset_[s * B + b + 1]) (none for a held field).

@@ -39,10 +39,6 @@ double bytes_per_field_node(int dim, bool contact, bool remap, int interface_slo
          6.0 * sizeof(double) * interface_slots;
 }
 
-double bytes_per_normal_cache_node(int dim) {
-  return sizeof(double) * dim;
-}
-
 double shape_measure(const Geometry& g, int dim) {
   switch (g.kind) {
   case Geometry::Kind::box: {
@@ -139,7 +135,6 @@ double estimate_memory(const Case& c, const std::vector<std::size_t>& particles)
     memory += static_cast<double>(particles[b]) * bytes_per_particle(dim);
     memory += std::min(nodes, field_nodes(lo, hi, dim, c.grid.cell_size)) *
               bytes_per_field_node(dim, contact, remap, slots);
-    if (body.geometric_normal) memory += nodes * bytes_per_normal_cache_node(dim);
   }
   return memory;
 }

@@ -19,7 +19,6 @@ double bytes_per_particle(int dim);
 // doubles per interface slot.
 double bytes_per_field_node(int dim, bool contact, bool remap, int interface_slots);
 // Bytes per grid node of a body with geometric_normal (its cached surface normals).
-double bytes_per_normal_cache_node(int dim);
 constexpr double bytes_per_grid_node = 16.0; // the grid conditions
 
 // Area (2D) or volume (3D) of a shape, and the particles it holds at `per_cell` particles per
@@ -34,8 +33,8 @@ double field_nodes(const Vec3a& lo, const Vec3a& hi, int dim, double cell_size);
 void geometry_bounds(const Geometry& g, int dim, Vec3a& lo, Vec3a& hi);
 
 // The memory a run of case c allocates, in bytes, with `particles[b]` particles in body b: the
-// particles, each body's velocity field over its geometry's box, the cached normals of bodies
-// with geometric_normal and the grid conditions.
+// particles, each body's velocity field over its geometry's box and the grid conditions (the
+// geometric normals cached at contact nodes scale with the contact surface: left out).
 double estimate_memory(const Case& c, const std::vector<std::size_t>& particles);
 
 // Bytes per particle of one VTU frame before compression: positions, the vertex cells, body

@@ -131,6 +131,21 @@ void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const S
 
 } // namespace
 
+// The exact normal of body b's geometry at node g (moved with a rigid body's velocity). A body
+// whose geometry stays put keeps each contact node's normal, in a map per node row along x that
+// the row's thread alone touches: memory in proportion to the contact surface, not the grid.
+template <int D>
+Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g) {
+  const BodySetup<D>& body = setup_.bodies[b];
+  const bool moves = body.rigid && !body.rigid_velocity.isZero();
+  if (moves)
+    return surface_normal<D>(*body.normal_geometry,
+                             Vec<D>(grid_.node_position(g) - body.rigid_velocity * time_));
+  auto [at, fresh] = normal_cache_[b][g[0]].try_emplace(grid_.node_index(g));
+  if (fresh) at->second = surface_normal<D>(*body.normal_geometry, grid_.node_position(g));
+  return at->second;
+}
+
 // Reads every field's m, grad m, mx, the bond capacities and the array `velocity`; writes
 // `velocity` where contact corrects it, and with `record` the contact record (forces, work,
 // contact nodes, interface totals) and the interfaces' slip rates. Nodes are visited row by row
@@ -176,22 +191,11 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         node.rigid[k] = body.rigid;
         node.rank[k] = body.mass + 1e-9 * b; // ties broken by body order
         node.surface_normal[k].setZero();
-        if (body.normal_geometry) {
-          // The exact normal of the body's geometry (moved with a rigid body's velocity). A body
-          // whose geometry stays put keeps each node's normal in a cache.
-          const bool moves = body.rigid && !body.rigid_velocity.isZero();
-          Vec<D>* cached = moves ? nullptr : &normal_cache_[b][grid_.node_index(g)];
-          if (cached && !std::isnan((*cached)[0])) {
-            node.surface_normal[k] = *cached;
-          } else {
-            const Vec<D> x_I = grid_.node_position(g) -
-                               (moves ? Vec<D>(body.rigid_velocity * time_) : Vec<D>::Zero());
-            node.surface_normal[k] = surface_normal<D>(*body.normal_geometry, x_I);
-            if (cached) *cached = node.surface_normal[k]; // this row's thread alone writes it
-          }
-        }
       }
       if (node.n >= 2) {
+        for (int k = 0; k < node.n; ++k)
+          if (setup_.bodies[node.body[k]].normal_geometry)
+            node.surface_normal[k] = geometric_normal(node.body[k], g);
         // Normals from mass gradients smoothed over the neighbouring nodes: a lattice-sampled
         // surface's raw gradient tilts by a degree or more from node to node.
         if (const int radius = setup_.normal_smoothing; radius > 0)
