@@ -20,7 +20,6 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 namespace talus {
@@ -268,9 +267,14 @@ private:
   Setup<D> setup_;
   std::vector<BodyField<D>> fields_; // one per body
   std::vector<char> field_held_;     // per body: its field stands from an earlier step
-  // Per body with geometric_normal, per node row along x: its surface normal at the contact
-  // nodes met so far (geometric_normal). Unused for rigid bodies that move.
-  std::vector<std::vector<std::unordered_map<std::int64_t, Vec<D>>>> normal_cache_;
+  // Per body with geometric_normal, per node row along x, per line of nodes along the last axis:
+  // its surface normal at the line's nodes [first, first + size) (NaN: not yet met), the range
+  // the contact pass has met (geometric_normal). Unused for rigid bodies that move.
+  struct NormalLine {
+    std::int64_t first = 0;
+    std::vector<Vec<D>> normals;
+  };
+  std::vector<std::vector<std::vector<NormalLine>>> normal_cache_;
 
   // Slab binning for the coloured scatter: particles of slab s and body b are
   // bin_index_[bin_offset_[s * B + b] .. bin_offset_[s * B + b + 1]) (none for a held field).

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace talus {
 
@@ -132,8 +133,9 @@ void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const S
 } // namespace
 
 // The exact normal of body b's geometry at node g (moved with a rigid body's velocity). A body
-// whose geometry stays put keeps each contact node's normal, in a map per node row along x that
-// the row's thread alone touches: memory in proportion to the contact surface, not the grid.
+// whose geometry stays put keeps each contact node's normal: per node row along x (allocated
+// when first met; the row's thread alone touches it), per line of nodes along the last axis, the
+// contiguous range of that line met so far. Its memory follows the contact surface, not the grid.
 template <int D>
 Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g) {
   const BodySetup<D>& body = setup_.bodies[b];
@@ -141,9 +143,25 @@ Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g) {
   if (moves)
     return surface_normal<D>(*body.normal_geometry,
                              Vec<D>(grid_.node_position(g) - body.rigid_velocity * time_));
-  auto [at, fresh] = normal_cache_[b][g[0]].try_emplace(grid_.node_index(g));
-  if (fresh) at->second = surface_normal<D>(*body.normal_geometry, grid_.node_position(g));
-  return at->second;
+  std::vector<NormalLine>& row = normal_cache_[b][g[0]];
+  std::int64_t line = 0; // the line's index in the row: nodes[1] x ... x nodes[D - 2]
+  for (int d = 1; d < D - 1; ++d)
+    line = line * grid_.nodes[d] + g[d];
+  if (row.empty()) row.resize(grid_.num_nodes() / (grid_.nodes[0] * grid_.nodes[D - 1]));
+  NormalLine& L = row[line];
+  const std::int64_t z = g[D - 1];
+  const Vec<D> unset = Vec<D>::Constant(std::numeric_limits<double>::quiet_NaN());
+  if (L.normals.empty()) {
+    L.first = z;
+  } else if (z < L.first) {
+    L.normals.insert(L.normals.begin(), L.first - z, unset);
+    L.first = z;
+  }
+  const auto i = static_cast<std::size_t>(z - L.first);
+  if (i >= L.normals.size()) L.normals.resize(i + 1, unset);
+  Vec<D>& n = L.normals[i];
+  if (std::isnan(n[0])) n = surface_normal<D>(*body.normal_geometry, grid_.node_position(g));
+  return n;
 }
 
 // Reads every field's m, grad m, mx, the bond capacities and the array `velocity`; writes
