@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """`mpirun -np N talus run`: the run folder of the coarse three-body Vaiont (contact, cohesive
-interfaces that degrade with slip and cross the slab cuts, settling, probes, frames) on 2 and 3
-processes x 1 and 2 threads is byte for byte the one-process run's: every CSV, every VTU frame,
-the ParaView series, and the results in summary.json. Then: a run stopped on 2 processes
+interfaces that degrade with slip and cross the slab cuts, settling, probes, frames) on 2, 3
+and 4 processes x 1 and 2 threads is byte for byte the one-process run's: every CSV, every VTU
+frame, the ParaView series, and the results in summary.json. Then: a run stopped on 2 processes
 (--max-steps) and restarted on 3 ends identical; a process killed with SIGKILL stops the others
 and leaves its newest checkpoint readable, and a one-process restart from it ends identical; a
 grid too narrow for the processes is refused with a message naming its columns.
@@ -70,7 +70,7 @@ rc, out = run([serial, *args(ref)], 2)
 if rc != 0:
     sys.exit(f"the one-process run failed ({rc}): {out}")
 
-for np in (2, 3):
+for np in (2, 3, 4):
     for threads in (1, 2):
         d = fresh(f"np{np}_t{threads}")
         rc, out = run([*mpi(np, threads), *args(d)], threads)
@@ -145,5 +145,5 @@ if rc != 2 or "cell columns" not in out:
 if failures:
     print("\n".join(failures))
     sys.exit(1)
-print("mpi run folders identical to the one-process run (2, 3 processes x 1, 2 threads; "
+print("mpi run folders identical to the one-process run (2, 3, 4 processes x 1, 2 threads; "
       "2 -> 3 restart; killed process; blow-up reported as failed; narrow grid refused)")

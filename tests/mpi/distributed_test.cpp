@@ -10,6 +10,9 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
+#include <limits>
+
 namespace talus {
 namespace golden {
 void PrintTo(const GoldenCase& g, std::ostream* os) {
@@ -172,6 +175,43 @@ TEST_P(OnProcesses, HashOfOneProcessAndAcrossACheckpointFromFewerProcesses) {
 
 INSTANTIATE_TEST_SUITE_P(Golden, OnProcesses, ::testing::ValuesIn(golden::golden_cases()),
                          [](const auto& info) { return std::string(info.param.name); });
+
+// A ghost at the far edge of a share reads nodes that lack particles only other processes
+// hold. A bad value there (a NaN stress put into this process's farthest ghost before every
+// step) is dropped with the ghost after the step: it stops nothing, changes no own particle, and
+// the run ends on the one-process hash.
+TEST(Ghosts, ABadGhostAtTheShareEdgeStopsNothingAndChangesNothing) {
+  if (world_size() < 2) GTEST_SKIP() << "one process has no ghosts";
+  const auto& cases = golden::golden_cases();
+  const GoldenCase& g = *std::find_if(cases.begin(), cases.end(), [](const GoldenCase& k) {
+    return std::string(k.name) == "vaiont_three";
+  });
+  const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/" + g.file, g.overrides);
+  Simulation<2> sim(c);
+  sim.set_settling(true);
+  Distributed<2> dist(sim, MPI_COMM_WORLD, rebalance_every, start<2>);
+  int spoiled = 0;
+  for (int s = 0; s < g.settle_steps + g.steps; ++s) {
+    if (s == g.settle_steps) dist.release();
+    const std::int64_t lo = dist.bounds()[dist.rank()], hi = dist.bounds()[dist.rank() + 1];
+    const Particles<2>& P = sim.particles();
+    std::size_t far = P.size();
+    std::int64_t farthest = 0; // columns beyond the slab
+    for (std::size_t p = 0; p < P.size(); ++p) {
+      if (dist.is_own(p)) continue;
+      const std::int64_t col = sim.grid().cell_of(P.x[p])[0];
+      const std::int64_t beyond = col < lo ? lo - col : col - (hi - 1);
+      if (beyond > farthest) farthest = beyond, far = p;
+    }
+    if (far < P.size()) {
+      sim.particles_mut().stress[far].setConstant(std::numeric_limits<double>::quiet_NaN());
+      ++spoiled;
+    }
+    ASSERT_NO_THROW(dist.step(1.0)) << "step " << s;
+  }
+  EXPECT_GT(spoiled, 0);
+  EXPECT_EQ(finish(dist).hash, g.hash) << "a bad ghost changed the run";
+}
 
 // A grid with fewer cell columns than the processes' slabs need is refused, on every process,
 // with the figures.

@@ -14,6 +14,8 @@ namespace talus {
 class Exchange {
 public:
   virtual ~Exchange() = default;
+  // Whether particle p of the share is this process's own (not a ghost copy of another's).
+  virtual bool is_own(std::size_t p) const = 0;
   // The largest of every process's value.
   virtual double max(double local) = 0;
   // Elementwise: lo[i] <- min over the processes, hi[i] <- max.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "talus/contact.hpp"
+#include "talus/parallel/exchange.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -14,8 +15,12 @@ inline double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Records the smallest bad particle index seen by any thread.
-inline void record_bad(std::atomic<std::size_t>& first, std::size_t p) {
+// Records the smallest bad particle index seen by any thread. With an exchange only this
+// process's own particles count: a ghost near the share's edge reads nodes that lack particles
+// only other processes hold, and is dropped after the step; its owner checks the real one.
+inline void record_bad(std::atomic<std::size_t>& first, std::size_t p,
+                       const Exchange* exchange = nullptr) {
+  if (exchange && !exchange->is_own(p)) return;
   std::size_t cur = first.load();
   while (p < cur && !first.compare_exchange_weak(cur, p)) {
   }

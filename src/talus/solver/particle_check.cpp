@@ -21,7 +21,7 @@ void Simulation<D>::check_particles() const {
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
 #pragma omp parallel for schedule(static)
   for (std::int64_t p = 0; p < static_cast<std::int64_t>(P.size()); ++p)
-    if (!particle_ok(p, lo, hi)) detail::record_bad(bad, static_cast<std::size_t>(p));
+    if (!particle_ok(p, lo, hi)) detail::record_bad(bad, static_cast<std::size_t>(p), exchange_);
   if (bad.load() != P.size()) report_bad_particle(bad.load());
 }
 

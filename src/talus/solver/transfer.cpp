@@ -330,7 +330,7 @@ void Simulation<D>::update_particles(double dt) {
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
       move_particle(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
-      if (!motion_ok(p, lo, hi)) detail::record_bad(gone, static_cast<std::size_t>(p));
+      if (!motion_ok(p, lo, hi)) detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
     }
   }
   bad_particle_ = std::min(bad_particle_, gone.load());
@@ -353,7 +353,7 @@ void Simulation<D>::update_particles_and_remap(double dt) {
     BodyField<D>& N = fields_[P.field[p]];
     const ShapeWeights<D>& sw = shape_[p];
     move_particle(P, p, setup_.bodies[b], N, sw, flip, dt);
-    if (!motion_ok(p, lo, hi)) detail::record_bad(gone, p);
+    if (!motion_ok(p, lo, hi)) detail::record_bad(gone, p, exchange_);
     const Vec<D> mv_p = P.m[p] * P.v[p];
     for_each_node(N.box, sw,
                   [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
@@ -412,7 +412,7 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
       // F^{n+1} = (I + L dt) F^n, V = V_0 det F (eq. 24-25).
       P.F[p] = (Mat<D>::Identity() + L * dt) * P.F[p];
       double J = P.F[p].determinant();
-      if (!(J > 0.0)) detail::record_bad(bad, static_cast<std::size_t>(p));
+      if (!(J > 0.0)) detail::record_bad(bad, static_cast<std::size_t>(p), exchange_);
       if (J > max_J) { // past the volume limit the opening is separation, not the particle's
         P.F[p] *= std::pow(max_J / J, 1.0 / D);
         J = max_J;
@@ -430,7 +430,8 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
                              2.0 * (s[3] * D3(0, 1) + s[4] * D3(1, 2) + s[5] * D3(0, 2)));
       work += w;
       if (particle_work) particle_work[p] = w;
-      if (!P.stress[p].allFinite()) detail::record_bad(gone, static_cast<std::size_t>(p));
+      if (!P.stress[p].allFinite())
+        detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
     }
     chunk_work_[c] = work;
   }
