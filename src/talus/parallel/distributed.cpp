@@ -226,8 +226,10 @@ template <int D>
 void Distributed<D>::set_ownership(const Particles<D>& share) {
   share_own_.resize(share.size());
   own_count_ = 0;
+  const std::int64_t lo = bounds_[rank_], hi = bounds_[rank_ + 1];
   for (std::size_t k = 0; k < share.size(); ++k) {
-    share_own_[k] = slab_owner(bounds_, owner_column(share.x[k])) == rank_;
+    const std::int64_t c = owner_column(share.x[k]); // in [0, cells), as the slabs are
+    share_own_[k] = c >= lo && c < hi;
     own_count_ += share_own_[k];
   }
 }
@@ -243,9 +245,13 @@ void Distributed<D>::send_ghosts(Particles<D>& P, const std::vector<std::uint32_
   for (auto& o : out)
     o.clear();
   double migrating = 0;
+  // A particle farther than the ghost width from both cuts of this slab goes to no one.
+  const std::int64_t inner_lo = bounds_[rank_] + ghost_width_;
+  const std::int64_t inner_hi = bounds_[rank_ + 1] - ghost_width_;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const std::size_t p = rows[i];
     const std::int64_t c = column(P.x[p]);
+    if (c >= inner_lo && c < inner_hi) continue;
     const int q_lo = slab_owner(bounds_, c - ghost_width_);
     const int q_hi = slab_owner(bounds_, c + ghost_width_);
     const int owner = slab_owner(bounds_, owner_column(P.x[p]));
