@@ -205,6 +205,7 @@ public:
   // Contact on one velocity array of every body field (v, v_new or v_remap); `record` keeps its
   // forces, work, contact nodes and the interfaces' slip rates.
   void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, bool record);
+  // Body b's geometric normal at node g, cached for a body whose geometry stays put.
   Vec<D> geometric_normal(int b, const Index<D>& g);
   void exchange_particle_halos() {} // one process: every particle's nodes are here
   // G2P of the velocity and position (eq. 22-23), from v and v_new.

@@ -18,7 +18,6 @@ double bytes_per_particle(int dim);
 // with contact the mass gradient and position, with MUSL the re-mapped velocity, and six
 // doubles per interface slot.
 double bytes_per_field_node(int dim, bool contact, bool remap, int interface_slots);
-// Bytes per grid node of a body with geometric_normal (its cached surface normals).
 constexpr double bytes_per_grid_node = 16.0; // the grid conditions
 
 // Area (2D) or volume (3D) of a shape, and the particles it holds at `per_cell` particles per
