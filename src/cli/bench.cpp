@@ -13,7 +13,9 @@
 #include <nlohmann/json.hpp>
 #ifdef TALUS_MPI
 #include "talus/parallel/distributed.hpp"
+#include "talus/parallel/seed_share.hpp"
 #include <memory>
+#include <optional>
 #endif
 
 namespace talus {
@@ -53,20 +55,26 @@ int run_bench(const BenchOptions& opt) {
     auto measure = [&]<int D>(int threads) {
       reset_peak_rss();
       const double rss_before = read_rss().now;
-      Simulation<D> sim(c);
-      const double n = static_cast<double>(sim.particles().size());
-      // Under mpirun, each process steps its slab (parallel/distributed.hpp).
+      // Under mpirun, each process seeds and steps its slab (parallel/seed_share.hpp,
+      // parallel/distributed.hpp).
 #ifdef TALUS_MPI
+      std::optional<SharedSeeding<D>> seeding;
+      if (process_count() > 1) seeding = seed_share<D>(c, MPI_COMM_WORLD);
+      Simulation<D> sim = seeding ? Simulation<D>(c, std::move(seeding->seeded)) : Simulation<D>(c);
       std::unique_ptr<Distributed<D>> dist;
-      if (process_count() > 1) dist = std::make_unique<Distributed<D>>(sim, MPI_COMM_WORLD);
+      if (seeding)
+        dist = std::make_unique<Distributed<D>>(sim, MPI_COMM_WORLD, std::move(seeding->bounds),
+                                                std::move(seeding->body_begin));
       auto steps = [&] { dist ? dist->step() : sim.step(); };
       auto sync = [&] {
         if (dist) MPI_Barrier(MPI_COMM_WORLD);
       };
 #else
+      Simulation<D> sim(c);
       auto steps = [&sim] { sim.step(); };
       auto sync = [] {};
 #endif
+      const double n = static_cast<double>(sim.case_particles());
       steps(); // warm-up: first sort and field allocation
       const PhaseTimes before = sim.phase_times();
 #ifdef TALUS_MPI

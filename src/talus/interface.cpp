@@ -74,8 +74,9 @@ double spacing(const Case& c, int body) {
 } // namespace
 
 template <int D>
-std::vector<std::string> mark_interface_particles(const Case& c, Particles<D>& P) {
-  std::vector<std::string> warnings;
+std::vector<std::size_t> mark_interface_particles(const Case& c, Particles<D>& P,
+                                                  const std::vector<char>* counted) {
+  std::vector<std::size_t> marked(2 * c.interfaces.size(), 0);
   for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
     const InterfaceSpec& spec = c.interfaces[f];
     for (int side = 0; side < 2; ++side) {
@@ -83,36 +84,55 @@ std::vector<std::string> mark_interface_particles(const Case& c, Particles<D>& P
       const CellBins<D> bins(c, P, P.body_begin[other], P.body_begin[other + 1]);
       const double s = spacing(c, self);
       const double reach = 1.5 * std::max(s, spacing(c, other));
-      std::size_t marked = 0;
       for (std::size_t p = P.body_begin[self]; p < P.body_begin[self + 1]; ++p) {
         bool near = false;
         bins.for_each_near(P.x[p],
                            [&](std::size_t q) { return near = (P.x[q] - P.x[p]).norm() <= reach; });
         if (!near) continue;
-        ++marked;
+        marked[2 * f + side] += !counted || (*counted)[p];
         P.iface[p] = static_cast<std::int32_t>(f);
         P.iface_area[p] = std::pow(s, D - 1);
         P.cohesion[p] = spec.cohesion.initial;
         P.friction[p] = spec.friction.initial;
         P.slip[p] = 0.0;
       }
-      if (marked == 0)
-        warnings.push_back(fmt::format(
-            "interface[{}] ({}-{}): no particle of '{}' lies within {:.3g} m of '{}' at the "
-            "start, so the interface bonds nothing; where the bodies meet later they slide with "
-            "its initial friction {}",
-            f, c.bodies[spec.a].name, c.bodies[spec.b].name, c.bodies[self].name, reach,
-            c.bodies[other].name, spec.friction.initial));
+    }
+  }
+  return marked;
+}
+
+std::vector<std::string> unbonded_interface_warnings(const Case& c,
+                                                     const std::vector<std::size_t>& marked) {
+  std::vector<std::string> warnings;
+  for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
+    const InterfaceSpec& spec = c.interfaces[f];
+    for (int side = 0; side < 2; ++side) {
+      if (marked[2 * f + side] > 0) continue;
+      const int self = side == 0 ? spec.a : spec.b, other = side == 0 ? spec.b : spec.a;
+      const double reach = 1.5 * std::max(spacing(c, self), spacing(c, other));
+      warnings.push_back(fmt::format(
+          "interface[{}] ({}-{}): no particle of '{}' lies within {:.3g} m of '{}' at the "
+          "start, so the interface bonds nothing; where the bodies meet later they slide with "
+          "its initial friction {}",
+          f, c.bodies[spec.a].name, c.bodies[spec.b].name, c.bodies[self].name, reach,
+          c.bodies[other].name, spec.friction.initial));
     }
   }
   return warnings;
 }
 
 template <int D>
-void check_body_overlaps(const Case& c, const Particles<D>& P) {
+std::vector<std::string> mark_interface_particles(const Case& c, Particles<D>& P) {
+  return unbonded_interface_warnings(c, mark_interface_particles(c, P, nullptr));
+}
+
+template <int D>
+std::size_t find_body_overlap(const Case& c, const Particles<D>& P,
+                              const std::vector<char>* checked, std::string& message) {
   const CellBins<D> bins(c, P, 0, P.size());
   for (int b = 0; b < P.num_bodies(); ++b)
     for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
+      if (checked && !(*checked)[p]) continue;
       std::size_t hit = P.size();
       bins.for_each_near(P.x[p], [&](std::size_t q) {
         const int o = P.body_of(q);
@@ -121,17 +141,33 @@ void check_body_overlaps(const Case& c, const Particles<D>& P) {
           hit = q;
         return hit != P.size();
       });
-      if (hit != P.size())
-        throw CaseError(fmt::format(
-            "{}: bodies '{}' and '{}' overlap near ({:.6g}): each point may belong to one body "
-            "only (the overlap would count its mass twice)",
-            c.file, c.bodies[b].name, c.bodies[P.body_of(hit)].name,
-            fmt::join(P.x[p].data(), P.x[p].data() + D, ", ")));
+      if (hit == P.size()) continue;
+      message = fmt::format(
+          "{}: bodies '{}' and '{}' overlap near ({:.6g}): each point may belong to one body "
+          "only (the overlap would count its mass twice)",
+          c.file, c.bodies[b].name, c.bodies[P.body_of(hit)].name,
+          fmt::join(P.x[p].data(), P.x[p].data() + D, ", "));
+      return p;
     }
+  return P.size();
+}
+
+template <int D>
+void check_body_overlaps(const Case& c, const Particles<D>& P) {
+  std::string message;
+  if (find_body_overlap(c, P, nullptr, message) != P.size()) throw CaseError(message);
 }
 
 template std::vector<std::string> mark_interface_particles<2>(const Case&, Particles<2>&);
 template std::vector<std::string> mark_interface_particles<3>(const Case&, Particles<3>&);
+template std::vector<std::size_t> mark_interface_particles<2>(const Case&, Particles<2>&,
+                                                              const std::vector<char>*);
+template std::vector<std::size_t> mark_interface_particles<3>(const Case&, Particles<3>&,
+                                                              const std::vector<char>*);
+template std::size_t find_body_overlap<2>(const Case&, const Particles<2>&,
+                                          const std::vector<char>*, std::string&);
+template std::size_t find_body_overlap<3>(const Case&, const Particles<3>&,
+                                          const std::vector<char>*, std::string&);
 template void check_body_overlaps<2>(const Case&, const Particles<2>&);
 template void check_body_overlaps<3>(const Case&, const Particles<3>&);
 

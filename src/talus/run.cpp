@@ -20,6 +20,7 @@
 #include <unistd.h>
 #ifdef TALUS_MPI
 #include "talus/parallel/distributed.hpp"
+#include "talus/parallel/seed_share.hpp"
 #endif
 
 namespace talus {
@@ -67,15 +68,15 @@ private:
 template <int D>
 class Runner {
 public:
-  Runner(const Case& c, const RunOptions& opt)
-      : c_(c), opt_(opt), sim_(c), root_(process_rank() == 0) {}
+  Runner(const Case& c, const RunOptions& opt, bool restoring)
+      : c_(c), opt_(opt), sim_(start(restoring)), root_(process_rank() == 0) {}
 
   RunResult run(LoadArchive* restore, const std::string& restored_from) {
     const auto wall0 = wall0_ = Clock::now();
-    const int threads = threads_ = set_threads(opt_.threads, sim_.particles().size());
+    const int threads = threads_ = set_threads(opt_.threads, sim_.case_particles());
     StopSignals signals;
     RunResult r;
-    r.particles = sim_.particles().size();
+    r.particles = sim_.case_particles();
     if (restore) {
       serialize(*restore);
       if (!restore->done()) throw CheckpointError(restored_from + ": trailing bytes");
@@ -180,10 +181,29 @@ private:
     if (root_) f(sim_);
   }
 
+  // A new case on several processes is seeded on each process's slab alone (seed_share.hpp);
+  // otherwise the whole case is, whose state a checkpoint then replaces.
+  Simulation<D> start(bool restoring) {
+#ifdef TALUS_MPI
+    if (process_count() > 1 && !restoring) {
+      SharedSeeding<D> s = seed_share<D>(c_, MPI_COMM_WORLD);
+      seeded_bounds_ = std::move(s.bounds), seeded_body_begin_ = std::move(s.body_begin);
+      return Simulation<D>(c_, std::move(s.seeded));
+    }
+#endif
+    (void)restoring;
+    return Simulation<D>(c_);
+  }
+
   // On several processes, each process keeps its slab of the particles from here on.
   void distribute() {
 #ifdef TALUS_MPI
-    if (process_count() > 1) dist_ = std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD);
+    if (process_count() == 1) return;
+    if (seeded_bounds_.empty())
+      dist_ = std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD);
+    else
+      dist_ = std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD, std::move(seeded_bounds_),
+                                               std::move(seeded_body_begin_));
 #endif
   }
 
@@ -473,6 +493,10 @@ private:
 
   const Case& c_;
   const RunOptions& opt_;
+#ifdef TALUS_MPI
+  std::vector<std::int64_t> seeded_bounds_;    // a new case's first slabs (seed_share)
+  std::vector<std::size_t> seeded_body_begin_; // and its body ranges of the ids
+#endif
   Simulation<D> sim_;
   bool root_; // rank 0: the process that writes the run folder
 #ifdef TALUS_MPI
@@ -495,7 +519,7 @@ private:
 template <int D>
 RunResult run_dim(const Case& c, const RunOptions& opt, LoadArchive* restore = nullptr,
                   const std::string& restored_from = "") {
-  Runner<D> runner(c, opt);
+  Runner<D> runner(c, opt, restore != nullptr);
   return runner.run(restore, restored_from);
 }
 

@@ -1,14 +1,16 @@
 #include "talus/setup.hpp"
 
+#include "talus/interface.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace talus {
 
 template <int D>
-Setup<D> make_setup(const Case& c, const Grid<D>& grid, const Particles<D>& particles) {
+Setup<D> make_setup(const Case& c, const Grid<D>& grid, const std::vector<double>& body_mass) {
   Setup<D> s;
-  const int B = particles.num_bodies();
+  const int B = static_cast<int>(body_mass.size());
   const int F = static_cast<int>(c.interfaces.size());
   s.num_bodies = B, s.num_interfaces = F;
   for (int b = 0; b < B; ++b) {
@@ -26,8 +28,7 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const Particles<D>& part
     body.rigid = spec.rigid;
     body.fixed = spec.rigid && body.rigid_velocity.isZero();
     if (spec.geometric_normal) body.normal_geometry = spec.geometry[0];
-    for (std::size_t p = particles.body_begin[b]; p < particles.body_begin[b + 1]; ++p)
-      body.mass += particles.m[p];
+    body.mass = body_mass[b];
     s.bodies.push_back(std::move(body));
   }
   s.interfaces = c.interfaces;
@@ -35,7 +36,7 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const Particles<D>& part
   // and at least 10 band thicknesses.
   for (const InterfaceSpec& f : c.interfaces) {
     s.bands.emplace_back();
-    s.interface_pressure.push_back(f.pore_pressure != 0.0 || f.thermal_pressurization);
+    s.interface_pressure.push_back(has_pore_state(f));
     s.pore_pressure = s.pore_pressure || s.interface_pressure.back();
     if (!f.thermal_pressurization) continue;
     const BandProperties& band = f.thermal_pressurization->band;
@@ -91,7 +92,7 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const Particles<D>& part
   return s;
 }
 
-template Setup<2> make_setup(const Case&, const Grid<2>&, const Particles<2>&);
-template Setup<3> make_setup(const Case&, const Grid<3>&, const Particles<3>&);
+template Setup<2> make_setup(const Case&, const Grid<2>&, const std::vector<double>&);
+template Setup<3> make_setup(const Case&, const Grid<3>&, const std::vector<double>&);
 
 } // namespace talus

@@ -91,8 +91,8 @@ struct Setup {
   }
 };
 
-// Builds the setup of case c on its grid, with each body's total mass from its particles.
+// Builds the setup of case c on its grid, with each body's total mass (Seeded::body_mass).
 template <int D>
-Setup<D> make_setup(const Case& c, const Grid<D>& grid, const Particles<D>& particles);
+Setup<D> make_setup(const Case& c, const Grid<D>& grid, const std::vector<double>& body_mass);
 
 } // namespace talus

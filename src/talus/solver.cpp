@@ -1,8 +1,5 @@
 #include "talus/solver.hpp"
 
-#include "talus/case/geometry.hpp"
-#include "talus/initial_state.hpp"
-#include "talus/interface.hpp"
 #include "talus/solver/detail.hpp"
 
 #include <cmath>
@@ -16,19 +13,20 @@ using detail::Clock;
 using detail::seconds_since;
 
 template <int D>
-Simulation<D>::Simulation(const Case& c) : case_data_(c) {
+Simulation<D>::Simulation(const Case& c) : Simulation(c, seed_case<D>(c)) {}
+
+template <int D>
+Simulation<D>::Simulation(const Case& c, Seeded<D> seeded) : case_data_(c) {
   Vec<D> origin, extent;
   for (int d = 0; d < D; ++d)
     origin[d] = c.grid.origin[d], extent[d] = c.grid.extent[d];
   grid_ = Grid<D>(origin, extent, c.grid.cell_size);
-  particles_ = fill_particles<D>(c);
-  check_body_overlaps<D>(c, particles_);
-  if (c.initial_state.method == InitialState::Method::k0) apply_k0_stress<D>(c, particles_);
-  index_of_id_.resize(particles_.size());
+  particles_ = std::move(seeded.particles);
+  index_of_id_.resize(seeded.total);
   for (std::size_t p = 0; p < particles_.size(); ++p)
     index_of_id_[particles_.id[p]] = static_cast<std::uint32_t>(p);
-  warnings_ = mark_interface_particles<D>(c, particles_);
-  setup_ = make_setup<D>(c, grid_, particles_);
+  warnings_ = std::move(seeded.warnings);
+  setup_ = make_setup<D>(c, grid_, seeded.body_mass);
   const int B = particles_.num_bodies();
   fields_.resize(B);
   for (int b = 0; b < B; ++b) {
@@ -41,15 +39,16 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
     N.needs.pressure = setup_.pore_pressure;
     N.needs.heating = setup_.heating;
   }
-  // Each interface particle of an interface with pore pressure gets its state, zero rises.
-  for (std::size_t p = 0; p < particles_.size(); ++p)
-    if (const int f = particles_.iface[p]; f >= 0 && setup_.interface_pressure[f]) {
+  // Each interface particle of an interface with pore pressure gets its state, zero rises, in
+  // id order over the whole case (a process's particles take their offsets in that pool).
+  for (const auto& [id, f] : seeded.pore_particles) {
+    if (const std::size_t p = index_of_id_[id]; p < particles_.size() && particles_.id[p] == id)
       particles_.pore[p] = static_cast<std::int64_t>(pore_state_.size());
-      pore_entries_.emplace_back(pore_state_.size(), f);
-      pore_state_.resize(pore_state_.size() + pore_header +
-                             (setup_.bands[f] ? setup_.bands[f]->state_size() : 0),
-                         0.0);
-    }
+    pore_entries_.emplace_back(pore_state_.size(), f);
+    pore_state_.resize(pore_state_.size() + pore_header +
+                           (setup_.bands[f] ? setup_.bands[f]->state_size() : 0),
+                       0.0);
+  }
   field_held_.assign(B, 0);
   normal_cache_.resize(B);
   for (int b = 0; b < B; ++b)
@@ -62,21 +61,15 @@ Simulation<D>::Simulation(const Case& c) : case_data_(c) {
   slab_width_ = 4;
   num_slabs_ = (grid_.cells[0] + slab_width_ - 1) / slab_width_;
   bin_offset_.assign(static_cast<std::size_t>(num_slabs_ * B + 1), 0);
-  // A probe follows the particle of its body nearest its point: say so when that is far.
-  for (const ProbeSpec& pr : c.probes) {
-    Vec<D> near;
-    for (int d = 0; d < D; ++d)
-      near[d] = pr.near[d];
-    const double gap = (particles_.x[nearest_particle(pr.body, near)] - near).norm();
-    if (gap > grid_.h)
-      warnings_.push_back(fmt::format(
-          "probe '{}': the nearest particle of body '{}' is {:.3g} m from its point (more than "
-          "a cell, {:.3g} m): the probe follows that particle",
-          pr.name, c.bodies[pr.body].name, gap, grid_.h));
-  }
   // The energy budget counts from the start (the initial stresses' elastic energy is its
   // baseline) until release() restarts it.
-  for (int b = 0; b < B; ++b)
+  set_energy_baseline();
+}
+
+template <int D>
+void Simulation<D>::set_energy_baseline() {
+  strain_energy0_.clear();
+  for (int b = 0; b < num_bodies(); ++b)
     strain_energy0_.push_back(strain_energy(b));
 }
 
@@ -169,9 +162,7 @@ void Simulation<D>::release() {
   particles_.x0 = particles_.x;
   std::fill(record_.work.begin(), record_.work.end(), 0.0);
   std::fill(internal_work_.begin(), internal_work_.end(), 0.0);
-  strain_energy0_.clear();
-  for (int b = 0; b < num_bodies(); ++b)
-    strain_energy0_.push_back(strain_energy(b));
+  set_energy_baseline();
 }
 
 template <int D>
@@ -238,7 +229,17 @@ double Simulation<D>::gravity_work(int b) const {
   return w;
 }
 
-// Elastic energy held by body b: sum V (p^2 / 2K + J2 / 2G).
+namespace {
+
+// A particle's elastic energy, V (p^2 / 2K + J2 / 2G).
+double elastic_energy(const Voigt& stress, double vol, double K, double G) {
+  const double mean = mean_stress(stress);
+  return vol * (0.5 * mean * mean / K + 0.5 * second_invariant(deviator(stress)) / G);
+}
+
+} // namespace
+
+// Elastic energy held by body b: sum V (p^2 / 2K + J2 / 2G), in particle order.
 template <int D>
 double Simulation<D>::strain_energy(int b) const {
   const auto& P = particles_;
@@ -247,11 +248,18 @@ double Simulation<D>::strain_energy(int b) const {
   const double K = std::visit([](const auto& m) { return m.bulk_modulus(); }, body.material.model);
   const double G = std::visit([](const auto& m) { return m.shear_modulus(); }, body.material.model);
   double u = 0.0;
-  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
-    const double mean = mean_stress(P.stress[p]);
-    u += P.vol[p] * (0.5 * mean * mean / K + 0.5 * second_invariant(deviator(P.stress[p])) / G);
-  }
+  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
+    u += elastic_energy(P.stress[p], P.vol[p], K, G);
   return u;
+}
+
+template <int D>
+double Simulation<D>::strain_energy_of(std::size_t p) const {
+  const BodySetup<D>& body = setup_.bodies[particles_.body_of(p)];
+  if (body.rigid) return 0.0;
+  const double K = std::visit([](const auto& m) { return m.bulk_modulus(); }, body.material.model);
+  const double G = std::visit([](const auto& m) { return m.shear_modulus(); }, body.material.model);
+  return elastic_energy(particles_.stress[p], particles_.vol[p], K, G);
 }
 
 template <int D>
@@ -268,14 +276,7 @@ std::vector<std::uint32_t> Simulation<D>::probe_ids() const {
 
 template <int D>
 std::size_t Simulation<D>::nearest_particle(int body, const Vec<D>& point) const {
-  const auto& P = particles_;
-  std::size_t best = P.body_begin[body];
-  double best_d = inf;
-  for (std::size_t p = P.body_begin[body]; p < P.body_begin[body + 1]; ++p) {
-    const double d = (P.x[p] - point).squaredNorm();
-    if (d < best_d) best_d = d, best = p;
-  }
-  return best;
+  return talus::nearest_particle(particles_, body, point);
 }
 
 template class Simulation<2>;

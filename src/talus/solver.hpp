@@ -12,6 +12,7 @@
 #include "talus/output/checkpoint.hpp"
 #include "talus/parallel/exchange.hpp"
 #include "talus/particles.hpp"
+#include "talus/seeding.hpp"
 #include "talus/setup.hpp"
 #include "talus/shape.hpp"
 
@@ -39,6 +40,9 @@ template <int D>
 class Simulation {
 public:
   explicit Simulation(const Case& c);
+  // From seeded particles: the whole case's, or on several processes one process's own slab
+  // (which parallel/distributed.hpp then steps).
+  Simulation(const Case& c, Seeded<D> seeded);
 
   // Advances one step of at most dt_limit (so output times and the end time are hit exactly).
   // Throws SimulationError naming the step, time and first particle that went bad (a non-finite
@@ -85,6 +89,8 @@ public:
   double contact_work(int b) const { return record_.work[b]; }
   double internal_work(int b) const { return internal_work_[b]; }
   double strain_energy(int b) const;
+  // Particle p's term of its body's strain_energy (0 in a rigid body).
+  double strain_energy_of(std::size_t p) const;
   // The elastic energy at release (or at the start, without settling).
   double strain_energy_at_release(int b) const { return strain_energy0_[b]; }
 
@@ -130,9 +136,15 @@ public:
   void set_settling(bool on) { settling_ = on; }
   bool settling() const { return settling_; }
   void release();
+  // The elastic energy the budget counts from (strain_energy_at_release): the particles' now, or
+  // per body as given (formed across processes).
+  void set_energy_baseline();
+  void set_energy_baseline(std::vector<double> per_body) { strain_energy0_ = std::move(per_body); }
 
   // The stable time step of the current state (CFL) or the fixed one.
   double compute_time_step() const;
+  // The whole case's particle count (on several processes too).
+  std::size_t case_particles() const { return index_of_id_.size(); }
   // Current index of the particle with stable id `id`.
   std::size_t index_of(std::uint32_t id) const { return index_of_id_[id]; }
   // Stable ids of the case's probes: the particle of the probe's body nearest its point now.

@@ -5,12 +5,14 @@
 // processes, checkpointed mid-way, continues on all of them to the same hash.
 #include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/distributed.hpp"
+#include "talus/parallel/seed_share.hpp"
 #include "verification/golden_cases.hpp"
 
 #include <gtest/gtest.h>
 #include <mpi.h>
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
 namespace talus {
@@ -93,16 +95,18 @@ Outcome finish(Distributed<D>& dist) {
   return out;
 }
 
-// The case on every process; or, with `split` > 0, its first `split` steps on the first
-// max(size - 1, 1) processes, a checkpoint of the whole state (bytes, as a checkpoint file holds
-// them), and the rest on every process from that checkpoint.
+// The case seeded on every process's slab; or, with `split` > 0, its first `split` steps on the
+// first max(size - 1, 1) processes, a checkpoint of the whole state (bytes, as a checkpoint file
+// holds them), and the rest on every process from that checkpoint.
 template <int D>
 Outcome run_distributed(const Case& c, const GoldenCase& g, int split) {
   const int total = g.settle_steps + g.steps;
-  if (split <= 0) {
-    Simulation<D> sim(c);
+  if (split <= 0) { // seeded on each slab alone, as `talus run` starts a new case
+    SharedSeeding<D> seeding = seed_share<D>(c, MPI_COMM_WORLD, start<D>);
+    Simulation<D> sim(c, std::move(seeding.seeded));
     if (g.settle_steps > 0) sim.set_settling(true);
-    Distributed<D> dist(sim, MPI_COMM_WORLD, rebalance_every, start<D>);
+    Distributed<D> dist(sim, MPI_COMM_WORLD, std::move(seeding.bounds),
+                        std::move(seeding.body_begin), rebalance_every);
     advance(dist, g, 0, total);
     Outcome out;
     check_boxes(dist, sim, out);
@@ -173,6 +177,47 @@ TEST_P(OnProcesses, HashOfOneProcessAndAcrossACheckpointFromFewerProcesses) {
   }
 }
 
+// Each process's own particles, seeded on its slab alone, are bit for bit the particles of the
+// same ids that one process seeds (K0 stresses, interface marks, pore offsets' order), every
+// particle is some process's once, and the masses, warnings and body ranges are one process's.
+template <int D>
+void check_seeding(const Case& c, const std::string& name) {
+  const Seeded<D> whole = seed_case<D>(c);
+  SharedSeeding<D> shared = seed_share<D>(c, MPI_COMM_WORLD);
+  Particles<D>& mine = shared.seeded.particles;
+  Particles<D> all = whole.particles;
+  long mismatched = 0, count = static_cast<long>(mine.size());
+  Particles<D>::for_each_array_pair(mine, all, [&](auto& m, auto& a) {
+    using T = typename std::decay_t<decltype(m)>::value_type;
+    for (std::size_t p = 0; p < mine.size(); ++p)
+      mismatched += std::memcmp(&m[p], &a[mine.id[p]], sizeof(T)) != 0;
+  });
+  MPI_Allreduce(MPI_IN_PLACE, &mismatched, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(mismatched, 0) << name << ": particle values differ from one process's";
+  EXPECT_EQ(count, static_cast<long>(whole.total)) << name << ": particles owned once each";
+  EXPECT_EQ(shared.seeded.total, whole.total);
+  EXPECT_EQ(shared.body_begin, whole.particles.body_begin) << name;
+  EXPECT_EQ(shared.seeded.pore_particles, whole.pore_particles) << name;
+  EXPECT_EQ(shared.seeded.warnings, whole.warnings) << name;
+  ASSERT_EQ(shared.seeded.body_mass.size(), whole.body_mass.size());
+  for (std::size_t b = 0; b < whole.body_mass.size(); ++b)
+    EXPECT_EQ(std::memcmp(&shared.seeded.body_mass[b], &whole.body_mass[b], sizeof(double)), 0)
+        << name << ": body " << b << " mass";
+  if (world_size() > 1) {
+    EXPECT_LT(mine.size(), whole.total) << name << ": one process took all";
+  }
+}
+
+TEST_P(OnProcesses, EachSlabSeededAloneIsOneProcesssSeeding) {
+  const GoldenCase& g = GetParam();
+  const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/" + g.file, g.overrides);
+  if (c.simulation.dimension == 2)
+    check_seeding<2>(c, g.name);
+  else
+    check_seeding<3>(c, g.name);
+}
+
 INSTANTIATE_TEST_SUITE_P(Golden, OnProcesses, ::testing::ValuesIn(golden::golden_cases()),
                          [](const auto& info) { return std::string(info.param.name); });
 
@@ -211,6 +256,27 @@ TEST(Ghosts, ABadGhostAtTheShareEdgeStopsNothingAndChangesNothing) {
   }
   EXPECT_GT(spoiled, 0);
   EXPECT_EQ(finish(dist).hash, g.hash) << "a bad ghost changed the run";
+}
+
+// Bodies that overlap across every cut stop every process with the error one process gives: the
+// first overlapping particle by id, wherever its slab is.
+TEST(Seeding, OverlapIsOneProcesssErrorOnEveryProcess) {
+  const std::string file = std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/cohesive_block.toml";
+  const Case c = parse_case_file(file, {"body.0.polygon=[[1.0, 0.2], [12.0, 0.2], [12.0, 7.0], "
+                                        "[1.0, 7.0]]"});
+  std::string serial, shared;
+  try {
+    seed_case<2>(c);
+  } catch (const CaseError& e) {
+    serial = e.what();
+  }
+  ASSERT_NE(serial.find("overlap"), std::string::npos) << serial;
+  try {
+    seed_share<2>(c, MPI_COMM_WORLD);
+  } catch (const CaseError& e) {
+    shared = e.what();
+  }
+  EXPECT_EQ(shared, serial);
 }
 
 // A grid with fewer cell columns than the processes' slabs need is refused, on every process,

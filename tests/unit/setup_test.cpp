@@ -1,6 +1,5 @@
 // Setup: the tables derived once from the case (pair friction, interface slots, fixed bodies).
-#include "talus/case/geometry.hpp"
-#include "talus/interface.hpp"
+#include "talus/seeding.hpp"
 #include "talus/setup.hpp"
 #include "two_bodies.hpp"
 
@@ -20,9 +19,8 @@ cohesion = { initial = 0 }
 )",
                                                   true));
   Grid<2> grid(Vec<2>(0, 0), Vec<2>(2.0, 1.0), 0.1);
-  Particles<2> P = fill_particles<2>(c);
-  mark_interface_particles<2>(c, P);
-  const talus::Setup<2> s = make_setup<2>(c, grid, P); // qualified: gtest has a Setup()
+  const Seeded<2> seeded = seed_case<2>(c);
+  const talus::Setup<2> s = make_setup<2>(c, grid, seeded.body_mass); // gtest has a Setup()
   ASSERT_EQ(s.num_bodies, 2);
   EXPECT_EQ(s.interface_of(0, 1), 0);
   EXPECT_EQ(s.interface_of(1, 0), 0);

@@ -335,6 +335,23 @@ std::size_t count_particles(const Case& c, std::size_t body) {
 }
 
 template <int D>
+SeedParticle<D> seed_particle(const Case& c, std::size_t body) {
+  const BodySpec& b = c.bodies[body];
+  SeedParticle<D> s;
+  s.vol = std::pow(c.grid.cell_size / b.particles_per_cell, D);
+  s.m = c.materials[b.material].density() * s.vol;
+  for (int d = 0; d < D; ++d)
+    s.v[d] = b.velocity[d];
+  return s;
+}
+
+template <int D>
+void for_each_seed_of(const Case& c, std::size_t body,
+                      const std::function<void(const Vec<D>&)>& f) {
+  for_each_seed<D>(c, c.bodies[body], f);
+}
+
+template <int D>
 Particles<D> fill_particles(const Case& c) {
   Particles<D> P;
   // Exact capacity: growing by doubling would leave up to half of every array unused (and the
@@ -343,15 +360,11 @@ Particles<D> fill_particles(const Case& c) {
   for (std::size_t b = 0; b < c.bodies.size(); ++b)
     total += count_particles(c, b);
   P.reserve(total);
-  for (const BodySpec& b : c.bodies) {
-    const double rho = c.materials[b.material].density();
-    const double vol = std::pow(c.grid.cell_size / b.particles_per_cell, D);
-    Vec<D> v0;
-    for (int d = 0; d < D; ++d)
-      v0[d] = b.velocity[d];
+  for (std::size_t b = 0; b < c.bodies.size(); ++b) {
+    const SeedParticle<D> s = seed_particle<D>(c, b);
     const std::size_t before = P.size();
-    for_each_seed<D>(c, b, [&](const Vec<D>& x) { P.push_back(x, v0, rho * vol, vol); });
-    require_particles(c, P.body_begin.size() - 1, P.size() - before);
+    for_each_seed<D>(c, c.bodies[b], [&](const Vec<D>& x) { P.push_back(x, s.v, s.m, s.vol); });
+    require_particles(c, b, P.size() - before);
     P.body_begin.push_back(P.size());
   }
   return P;
@@ -360,6 +373,12 @@ Particles<D> fill_particles(const Case& c) {
 template bool inside<2>(const Geometry&, const Vec<2>&);
 template bool inside<3>(const Geometry&, const Vec<3>&);
 template Particles<2> fill_particles<2>(const Case&);
+template SeedParticle<2> seed_particle<2>(const Case&, std::size_t);
+template SeedParticle<3> seed_particle<3>(const Case&, std::size_t);
+template void for_each_seed_of<2>(const Case&, std::size_t,
+                                  const std::function<void(const Vec<2>&)>&);
+template void for_each_seed_of<3>(const Case&, std::size_t,
+                                  const std::function<void(const Vec<3>&)>&);
 template Particles<3> fill_particles<3>(const Case&);
 
 } // namespace talus

@@ -6,6 +6,7 @@
 #include "talus/particles.hpp"
 
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace talus {
@@ -29,6 +30,19 @@ Vec<D> surface_normal(const Geometry& g, const Vec<D>& x);
 // Particles of every body, grouped by body in case order. Throws CaseError for an empty body.
 template <int D>
 Particles<D> fill_particles(const Case& c);
+
+// What each seed of a body becomes: its particle's mass, volume and initial velocity.
+template <int D>
+struct SeedParticle {
+  double m = 0.0, vol = 0.0;
+  Vec<D> v = Vec<D>::Zero();
+};
+template <int D>
+SeedParticle<D> seed_particle(const Case& c, std::size_t body);
+
+// Calls f at each seed of body `body`, in fill order (the order of its particles' ids).
+template <int D>
+void for_each_seed_of(const Case& c, std::size_t body, const std::function<void(const Vec<D>&)>& f);
 
 // Particle count without allocating (for `talus check` and memory estimates).
 std::size_t count_particles(const Case& c, std::size_t body);

@@ -4,6 +4,9 @@
 // process computes the same bounds from the same (globally summed) counts.
 #pragma once
 
+#include "talus/grid.hpp"
+
+#include <algorithm>
 #include <cstdint>
 #include <stdexcept>
 #include <vector>
@@ -14,6 +17,32 @@ class DecompositionError : public std::runtime_error {
 public:
   using std::runtime_error::runtime_error;
 };
+
+// How the first slabs are cut: by the particle count per column, or into equal numbers of
+// columns (which the first rebalance then corrects: the tests' rebalance inside a run).
+enum class SlabStart { by_count, even_columns };
+
+// The columns of ghosts beyond a slab, each side: a node's sum takes the particles of 4 columns
+// (GIMP), contact reads the mass gradient normal_smoothing columns further, and MUSL's re-map and
+// stress pass, or USF's stress pass and force scatter, read a second layer of both (6 +
+// smoothing); one more for the ownership column and one spare.
+inline int ghost_columns(int normal_smoothing) {
+  return 8 + normal_smoothing;
+}
+
+// The column that decides a particle's owner: that of its cell index (x slowest), so that every
+// process's sort keys lie above the previous process's. A cell inside the grid across x has
+// cell_index / cells_per_column = its x index (after the clamp also for x outside); only a cell
+// outside across x needs the division. cells_per_column: the grid's cells across x.
+template <int D>
+std::int64_t owner_column(const Grid<D>& G, const Vec<D>& x, std::int64_t cells_per_column) {
+  const Index<D> c = G.cell_of(x);
+  bool across = true;
+  for (int d = 1; d < D; ++d)
+    across = across && c[d] >= 0 && c[d] < G.cells[d];
+  return std::clamp<std::int64_t>(across ? c[0] : G.cell_index(c) / cells_per_column, 0,
+                                  G.cells[0] - 1);
+}
 
 // Bounds (procs + 1 entries, bounds[0] = 0, bounds[procs] = columns) that split `counts`
 // (particles per column) into procs slabs of near-equal count, each at least min_width columns

@@ -1,12 +1,16 @@
 #include "talus/parallel/distributed.hpp"
 
+#include "talus/parallel/arrays.hpp"
 #include "talus/parallel/decomposition.hpp"
+#include "talus/parallel/seed_share.hpp"
 
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <fmt/format.h>
+#include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 
@@ -17,15 +21,6 @@ namespace {
 template <class T>
 using element_t = typename std::decay_t<T>::value_type;
 
-// Copies a[order[i]] into a new array, for every i.
-template <class T>
-void reorder(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
-  std::vector<T> out(order.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    out[i] = a[order[i]];
-  a.swap(out);
-}
-
 template <int D>
 void clear_arrays(Particles<D>& P) {
   P.for_each_array([](auto& a) { a.clear(); });
@@ -34,19 +29,13 @@ void clear_arrays(Particles<D>& P) {
 } // namespace
 
 template <int D>
-Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t rebalance_interval,
-                            Start start)
-    : sim_(sim), comm_(comm), rebalance_interval_(rebalance_interval) {
+void Distributed<D>::init() {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
   const Grid<D>& G = sim_.grid();
   for (int d = 1; d < D; ++d)
     cells_per_column_ *= G.cells[d];
-  // Ghosts reach: a node's sum takes the particles of 4 columns (GIMP), contact reads the mass
-  // gradient normal_smoothing columns further, and MUSL's re-map and stress pass, or USF's
-  // stress pass and force scatter, read a second layer of both (6 + smoothing); one more for
-  // the ownership column and one spare.
-  ghost_width_ = 8 + sim_.setup().normal_smoothing;
+  ghost_width_ = ghost_columns(sim_.setup().normal_smoothing);
   record_bytes_ = sizeof(std::uint32_t);
   own_.for_each_array([&](auto& a) { record_bytes_ += sizeof(element_t<decltype(a)>); });
   // The pore pool's entries, in offset order: each runs to the next one.
@@ -56,13 +45,19 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t reba
     pool_size_[entries[k].first] = static_cast<std::uint32_t>(
         (k + 1 < entries.size() ? entries[k + 1].first : sim_.pore_state().size()) -
         entries[k].first);
+}
 
+template <int D>
+Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t rebalance_interval,
+                            Start start)
+    : sim_(sim), comm_(comm), rebalance_interval_(rebalance_interval) {
+  init();
   // The whole state, the same on every process, is checked here: a bad particle in it stops
   // every process alike, before any share's first step could stop one alone.
   sim_.check_particles();
   Particles<D> all = sim_.take_particles();
   body_begin_ = all.body_begin;
-  std::vector<std::int64_t> counts(static_cast<std::size_t>(G.cells[0]), 0);
+  std::vector<std::int64_t> counts(static_cast<std::size_t>(sim_.grid().cells[0]), 0);
   for (std::size_t p = 0; p < all.size(); ++p)
     ++counts[owner_column(all.x[p])];
   if (start == Start::even_columns) std::fill(counts.begin(), counts.end(), 1);
@@ -72,7 +67,6 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t reba
   for (std::size_t p = 0; p < all.size(); ++p)
     if (slab_owner(bounds_, owner_column(all.x[p])) == rank_)
       mine.push_back(static_cast<std::uint32_t>(p));
-  own_.body_begin = all.body_begin;
   Particles<D>::for_each_array_pair(own_, all, [&](auto& o, auto& a) {
     o.resize(mine.size());
     for (std::size_t i = 0; i < mine.size(); ++i)
@@ -85,17 +79,33 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t reba
   build_share();
 }
 
-// A cell inside the grid across x has cell_index / cells_per_column = its x index (after the
-// clamp also for x outside); only a cell outside across x needs the division.
+template <int D>
+Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::vector<std::int64_t> bounds,
+                            std::vector<std::size_t> body_begin, std::int64_t rebalance_interval)
+    : sim_(sim), comm_(comm), rebalance_interval_(rebalance_interval), bounds_(std::move(bounds)),
+      body_begin_(std::move(body_begin)) {
+  init();
+  // Each process checks its own particles; every process stops with the first failure.
+  std::string failure;
+  try {
+    sim_.check_particles();
+  } catch (const SimulationError& e) {
+    failure = e.what();
+  }
+  agree_on_failure(failure);
+  // A new case's particles stand in id order, which is one process's order (the global index).
+  own_ = sim_.take_particles();
+  own_index_ = own_.id;
+  own_.body_begin = body_begin_of(own_index_);
+  sim_.set_exchange(this);
+  fields_stand_ = false;
+  build_share();
+  set_energy_baseline();
+}
+
 template <int D>
 std::int64_t Distributed<D>::owner_column(const Vec<D>& x) const {
-  const Grid<D>& G = sim_.grid();
-  const Index<D> c = G.cell_of(x);
-  bool across = true;
-  for (int d = 1; d < D; ++d)
-    across = across && c[d] >= 0 && c[d] < G.cells[d];
-  return std::clamp<std::int64_t>(across ? c[0] : G.cell_index(c) / cells_per_column_, 0,
-                                  G.cells[0] - 1);
+  return talus::owner_column(sim_.grid(), x, cells_per_column_);
 }
 
 template <int D>
@@ -149,9 +159,21 @@ std::size_t Distributed<D>::unpack(const std::vector<char>& buf, std::size_t pos
 template <int D>
 const std::vector<char>& Distributed<D>::all_to_all(const std::vector<std::vector<char>>& buffers,
                                                     double& sent) {
+  // MPI counts are int: a step's exchange of more than 2 GiB stops the run (abort_run) rather
+  // than wrapping around.
+  auto count = [&](std::size_t bytes) {
+    if (bytes > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+      throw std::runtime_error(fmt::format(
+          "process {} of {}: {:.3g} GB of particles to exchange in one step, more than MPI's "
+          "2 GiB per call: run on more processes",
+          rank_, size_, static_cast<double>(bytes) / 1e9));
+    return static_cast<int>(bytes);
+  };
   std::vector<int> send_n(size_), recv_n(size_), send_at(size_, 0), recv_at(size_, 0);
+  std::size_t out_total = 0;
   for (int q = 0; q < size_; ++q)
-    send_n[q] = static_cast<int>(buffers[q].size()), sent += send_n[q];
+    send_n[q] = count(buffers[q].size()), sent += send_n[q], out_total += buffers[q].size();
+  count(out_total);
   MPI_Alltoall(send_n.data(), 1, MPI_INT, recv_n.data(), 1, MPI_INT, comm_);
   std::vector<char>& out_buf = send_buf_;
   std::vector<char>& in_buf = recv_buf_;
@@ -160,9 +182,10 @@ const std::vector<char>& Distributed<D>::all_to_all(const std::vector<std::vecto
     send_at[q] = static_cast<int>(out_buf.size());
     out_buf.insert(out_buf.end(), buffers[q].begin(), buffers[q].end());
   }
-  int total = 0;
+  std::size_t in_total = 0;
   for (int q = 0; q < size_; ++q)
-    recv_at[q] = total, total += recv_n[q];
+    recv_at[q] = static_cast<int>(in_total), in_total += static_cast<std::size_t>(recv_n[q]);
+  const int total = count(in_total);
   in_buf.resize(static_cast<std::size_t>(total));
   MPI_Alltoallv(out_buf.data(), send_n.data(), send_at.data(), MPI_BYTE, in_buf.data(),
                 recv_n.data(), recv_at.data(), MPI_BYTE, comm_);
@@ -491,74 +514,10 @@ void Distributed<D>::step(double dt_limit) {
 // The lowest process that failed sends its message; every process then throws it.
 template <int D>
 void Distributed<D>::agree_on_failure(std::string failure) {
-  int first = failure.empty() ? size_ : rank_;
-  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm_);
-  if (first == size_) return;
-  if (rank_ == first) failure = fmt::format("process {} of {}: {}", rank_, size_, failure);
-  int n = static_cast<int>(failure.size());
-  MPI_Bcast(&n, 1, MPI_INT, first, comm_);
-  failure.resize(static_cast<std::size_t>(n));
-  MPI_Bcast(failure.data(), n, MPI_CHAR, first, comm_);
-  throw SimulationError(failure);
-}
-
-template <int D>
-void Distributed<D>::release() {
-  sim_.release();
-  // The elastic energy at release is a sum over every particle: rank 0 forms it from the whole.
-  with_whole_state([](Simulation<D>& sim) { sim.release(); });
-}
-
-template <int D>
-void Distributed<D>::gather_to_root() {
-  std::vector<char> buf;
-  Particles<D> share = sim_.take_particles();
-  for (std::size_t k = 0; k < share_own_.size(); ++k)
-    if (share_own_[k]) pack(share, k, share_index_[k], buf);
-  const std::vector<ContactNodeForce<D>> nodes = sim_.contact_nodes(); // rows this process owns
-  std::vector<int> n(size_), at(size_, 0), node_n(size_), node_at(size_, 0);
-  const int mine = static_cast<int>(buf.size());
-  const int my_nodes = static_cast<int>(nodes.size() * sizeof(ContactNodeForce<D>));
-  MPI_Gather(&mine, 1, MPI_INT, n.data(), 1, MPI_INT, 0, comm_);
-  MPI_Gather(&my_nodes, 1, MPI_INT, node_n.data(), 1, MPI_INT, 0, comm_);
-  std::vector<char> all, all_nodes;
-  if (rank_ == 0) {
-    for (int q = 1; q < size_; ++q)
-      at[q] = at[q - 1] + n[q - 1], node_at[q] = node_at[q - 1] + node_n[q - 1];
-    all.resize(static_cast<std::size_t>(at[size_ - 1] + n[size_ - 1]));
-    all_nodes.resize(static_cast<std::size_t>(node_at[size_ - 1] + node_n[size_ - 1]));
-  }
-  MPI_Gatherv(buf.data(), mine, MPI_BYTE, all.data(), n.data(), at.data(), MPI_BYTE, 0, comm_);
-  MPI_Gatherv(nodes.data(), my_nodes, MPI_BYTE, all_nodes.data(), node_n.data(), node_at.data(),
-              MPI_BYTE, 0, comm_);
-  if (rank_ != 0) {
-    sim_.replace_particles(std::move(share), true);
-    return;
-  }
-  Particles<D> staged;
-  staged.body_begin = body_begin_;
-  std::vector<std::uint32_t> index;
-  for (std::size_t pos = 0; pos < all.size();)
-    pos = unpack(all, pos, staged, index);
-  std::vector<std::uint32_t> order(index.size());
-  for (std::size_t i = 0; i < index.size(); ++i)
-    order[index[i]] = static_cast<std::uint32_t>(i);
-  staged.for_each_array([&](auto& a) { reorder(a, order); });
-  staged.body_begin = body_begin_;
-  // Contact nodes: every process's own rows, in process order, which is node-plane order.
-  std::vector<ContactNodeForce<D>> every(all_nodes.size() / sizeof(ContactNodeForce<D>));
-  std::memcpy(static_cast<void*>(every.data()), all_nodes.data(), all_nodes.size());
-  parked_share_ = std::move(share);
-  sim_.replace_particles(std::move(staged), true);
-  sim_.set_gathered_contact_nodes(std::move(every));
-}
-
-template <int D>
-void Distributed<D>::restore_share() {
-  if (rank_ != 0) return;
-  sim_.take_particles(); // the whole state goes
-  sim_.replace_particles(std::move(parked_share_), true);
-  sim_.set_gathered_contact_nodes(std::nullopt);
+  const std::uint64_t key = failure.empty() ? no_key : static_cast<std::uint64_t>(rank_);
+  if (!failure.empty()) failure = fmt::format("process {} of {}: {}", rank_, size_, failure);
+  failure = first_message(comm_, key, std::move(failure));
+  if (!failure.empty()) throw SimulationError(failure);
 }
 
 template class Distributed<2>;

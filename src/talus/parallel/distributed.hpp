@@ -12,6 +12,7 @@
 // sums have one contributor per entry.
 #pragma once
 
+#include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/exchange.hpp"
 #include "talus/solver.hpp"
 
@@ -25,14 +26,16 @@ namespace talus {
 template <int D>
 class Distributed final : public Exchange {
 public:
-  // How the first slabs are cut: by the particle count per column, or into equal numbers of
-  // columns (which the first rebalance then corrects: the tests' rebalance inside a run).
-  enum class Start { by_count, even_columns };
+  using Start = SlabStart;
   // `sim` holds the whole state (a new case's, or a checkpoint's): this process keeps its slab.
   // Slabs are rebalanced from the particle counts every `rebalance_interval` steps (0: never).
   // Throws DecompositionError if the grid is too narrow for the processes.
   Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t rebalance_interval = 200,
               Start start = Start::by_count);
+  // `sim` holds this process's own particles of a new case, seeded on their slab alone
+  // (seed_share.hpp: its `bounds` and the whole case's `body_begin`).
+  Distributed(Simulation<D>& sim, MPI_Comm comm, std::vector<std::int64_t> bounds,
+              std::vector<std::size_t> body_begin, std::int64_t rebalance_interval = 200);
   Distributed(const Distributed&) = delete;
   Distributed& operator=(const Distributed&) = delete;
   ~Distributed() override { sim_.set_exchange(nullptr); }
@@ -78,8 +81,9 @@ public:
                   std::int64_t chunk, std::vector<double>& sums) override;
 
 private:
-  // The column that decides ownership: that of the particle's cell index (x slowest), so that
-  // every process's sort keys lie above the previous process's.
+  void init();                // what both constructors set first
+  void set_energy_baseline(); // a new case's, formed from every process's particles
+  // The column that decides ownership (decomposition.hpp).
   std::int64_t owner_column(const Vec<D>& x) const;
   // The column of the particle's cell, for the ghosts' reach.
   std::int64_t column(const Vec<D>& x) const;

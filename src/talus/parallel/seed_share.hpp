@@ -1,0 +1,35 @@
+// A new case seeded on several processes, each process its own slab alone (docs/architecture.md,
+// "Processes"): no process holds the whole case's particles. Every process walks the whole
+// case's seeds twice (a count per column, then the seeds of its slab and a margin), which costs
+// time of the order of one process's set-up but memory of the slab only. The ids, the bodies'
+// masses, the pore pool's order, the interface marks and every error and warning are those of
+// one process (seeding.hpp).
+#pragma once
+
+#include "talus/parallel/decomposition.hpp"
+#include "talus/seeding.hpp"
+
+#include <mpi.h>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+template <int D>
+struct SharedSeeding {
+  Seeded<D> seeded;                    // this process's own particles
+  std::vector<std::int64_t> bounds;    // the slabs (slab_bounds), cut as `start` says
+  std::vector<std::size_t> body_begin; // the whole case's body ranges of the ids
+};
+
+// Collective. Throws CaseError (an empty body, overlapping bodies) and DecompositionError (a grid
+// too narrow for the processes) on every process alike.
+template <int D>
+SharedSeeding<D> seed_share(const Case& c, MPI_Comm comm, SlabStart start = SlabStart::by_count);
+
+// The message of the process with the least key, on every process (keys differ between
+// processes; a process with nothing to say gives no_key); empty if none has one. Collective.
+inline constexpr std::uint64_t no_key = ~std::uint64_t{0};
+std::string first_message(MPI_Comm comm, std::uint64_t key, std::string message);
+
+} // namespace talus
