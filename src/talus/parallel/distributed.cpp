@@ -157,6 +157,23 @@ std::size_t Distributed<D>::unpack(const std::vector<char>& buf, std::size_t pos
 }
 
 template <int D>
+std::size_t Distributed<D>::unpack_in_place(const std::vector<char>& buf, std::size_t pos,
+                                            Particles<D>& P) {
+  std::uint32_t g;
+  std::memcpy(&g, buf.data() + pos, sizeof g);
+  pos += sizeof g;
+  P.for_each_array([&](auto& a) {
+    std::memcpy(static_cast<void*>(&a[g]), buf.data() + pos, sizeof(element_t<decltype(a)>));
+    pos += sizeof(element_t<decltype(a)>);
+  });
+  if (const std::int64_t o = P.pore[g]; o >= 0) {
+    std::memcpy(sim_.pore_state_mut().data() + o, buf.data() + pos, pool_size_[o] * sizeof(double));
+    pos += pool_size_[o] * sizeof(double);
+  }
+  return pos;
+}
+
+template <int D>
 const std::vector<char>& Distributed<D>::all_to_all(const std::vector<std::vector<char>>& buffers,
                                                     double& sent) {
   // MPI counts are int: a step's exchange of more than 2 GiB stops the run (abort_run) rather

@@ -104,6 +104,8 @@ private:
   void pack(Particles<D>& P, std::size_t p, std::uint32_t g, std::vector<char>& buf);
   std::size_t unpack(const std::vector<char>& buf, std::size_t pos, Particles<D>& P,
                      std::vector<std::uint32_t>& index);
+  // Writes the record at buf[pos] to P's slot g, its global index (P sized to hold it).
+  std::size_t unpack_in_place(const std::vector<char>& buf, std::size_t pos, Particles<D>& P);
   // Sends buffers[q] to process q, returns what every process sent here (concatenated).
   const std::vector<char>& all_to_all(const std::vector<std::vector<char>>& buffers, double& sent);
   // body_begin of particles sorted by global index.

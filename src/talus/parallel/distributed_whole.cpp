@@ -7,7 +7,8 @@
 
 namespace talus {
 
-void gather_in_pieces(MPI_Comm comm, const std::vector<char>& mine, std::vector<char>& all) {
+void gather_in_pieces(MPI_Comm comm, const std::vector<char>& mine,
+                      const std::function<void(const std::vector<char>&)>& take) {
   constexpr std::size_t piece = std::size_t{1} << 30;
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
@@ -20,15 +21,16 @@ void gather_in_pieces(MPI_Comm comm, const std::vector<char>& mine, std::vector<
                1, comm);
     return;
   }
-  all.assign(mine.begin(), mine.end());
+  take(mine);
+  std::vector<char> theirs;
   for (int q = 1; q < size; ++q) {
     std::uint64_t n = 0;
     MPI_Recv(&n, 1, MPI_UINT64_T, q, 0, comm, MPI_STATUS_IGNORE);
-    const std::size_t at0 = all.size();
-    all.resize(at0 + n);
+    theirs.resize(n);
     for (std::size_t at = 0; at < n; at += piece)
-      MPI_Recv(all.data() + at0 + at, static_cast<int>(std::min<std::size_t>(piece, n - at)),
-               MPI_BYTE, q, 1, comm, MPI_STATUS_IGNORE);
+      MPI_Recv(theirs.data() + at, static_cast<int>(std::min<std::size_t>(piece, n - at)), MPI_BYTE,
+               q, 1, comm, MPI_STATUS_IGNORE);
+    take(theirs);
   }
 }
 
@@ -42,7 +44,7 @@ void Distributed<D>::set_energy_baseline() {
     std::uint32_t id;
     double energy;
   };
-  std::vector<char> mine, all;
+  std::vector<char> mine;
   for (std::size_t k = 0; k < S.size(); ++k)
     if (share_own_[k]) {
       const Term t{S.id[k], sim_.strain_energy_of(k)};
@@ -50,16 +52,17 @@ void Distributed<D>::set_energy_baseline() {
       mine.resize(at + sizeof t);
       std::memcpy(mine.data() + at, &t, sizeof t);
     }
-  gather_in_pieces(comm_, mine, all);
+  std::vector<double> by_id(rank_ == 0 ? body_begin_.back() : 0, 0.0);
+  gather_in_pieces(comm_, mine, [&](const std::vector<char>& terms) {
+    for (std::size_t at = 0; at < terms.size(); at += sizeof(Term)) {
+      Term t;
+      std::memcpy(&t, terms.data() + at, sizeof t);
+      by_id[t.id] = t.energy;
+    }
+  });
   const std::size_t B = body_begin_.size() - 1;
   std::vector<double> baseline(B, 0.0);
   if (rank_ == 0) {
-    std::vector<double> by_id(body_begin_.back(), 0.0);
-    for (std::size_t at = 0; at < all.size(); at += sizeof(Term)) {
-      Term t;
-      std::memcpy(&t, all.data() + at, sizeof t);
-      by_id[t.id] = t.energy;
-    }
     for (std::size_t b = 0; b < B; ++b)
       if (!sim_.setup().bodies[b].rigid)
         for (std::size_t i = body_begin_[b]; i < body_begin_[b + 1]; ++i)
@@ -85,22 +88,21 @@ void Distributed<D>::gather_to_root() {
   const std::vector<ContactNodeForce<D>> nodes = sim_.contact_nodes(); // rows this process owns
   std::vector<char> node_buf(nodes.size() * sizeof(ContactNodeForce<D>));
   std::memcpy(node_buf.data(), static_cast<const void*>(nodes.data()), node_buf.size());
-  std::vector<char> all, all_nodes;
-  gather_in_pieces(comm_, buf, all);
-  gather_in_pieces(comm_, node_buf, all_nodes);
+  // Rank 0 writes each process's records into their slots of the whole state as they arrive.
+  Particles<D> staged;
+  if (rank_ == 0) staged.for_each_array([&](auto& a) { a.resize(body_begin_.back()); });
+  gather_in_pieces(comm_, buf, [&](const std::vector<char>& records) {
+    for (std::size_t pos = 0; pos < records.size();)
+      pos = unpack_in_place(records, pos, staged);
+  });
+  std::vector<char> all_nodes;
+  gather_in_pieces(comm_, node_buf, [&](const std::vector<char>& rows) {
+    all_nodes.insert(all_nodes.end(), rows.begin(), rows.end());
+  });
   if (rank_ != 0) {
     sim_.replace_particles(std::move(share), true);
     return;
   }
-  Particles<D> staged;
-  staged.body_begin = body_begin_;
-  std::vector<std::uint32_t> index;
-  for (std::size_t pos = 0; pos < all.size();)
-    pos = unpack(all, pos, staged, index);
-  std::vector<std::uint32_t> order(index.size());
-  for (std::size_t i = 0; i < index.size(); ++i)
-    order[index[i]] = static_cast<std::uint32_t>(i);
-  staged.for_each_array([&](auto& a) { reorder(a, order); });
   staged.body_begin = body_begin_;
   // Contact nodes: every process's own rows, in process order, which is node-plane order.
   std::vector<ContactNodeForce<D>> every(all_nodes.size() / sizeof(ContactNodeForce<D>));
