@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
-#include <sstream>
 
 namespace talus {
 
@@ -43,38 +42,42 @@ void LoadArchive::raw(void* p, std::size_t n) {
   pos_ += n;
 }
 
+// Header, payload and checksum go to the file as three parts: the payload is never copied (a
+// checkpoint is the size of the whole state).
 void write_checkpoint_file(const std::string& path, const std::string& payload) {
-  std::string file;
-  file.reserve(payload.size() + 32);
-  file.append(magic, sizeof magic);
-  append(file, format_version);
-  append(file, static_cast<std::uint64_t>(payload.size()));
-  file += payload;
-  append(file, fnv1a(payload));
-  write_file_atomic(path, file);
+  std::string head(magic, sizeof magic), tail;
+  append(head, format_version);
+  append(head, static_cast<std::uint64_t>(payload.size()));
+  append(tail, fnv1a(payload));
+  write_file_atomic(path, {head, payload, tail});
 }
 
+// Reads the payload straight into its string (its size is in the header): one copy of the
+// state in memory, not the file's and the payload's.
 std::string read_checkpoint_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw CheckpointError(fmt::format("{}: cannot open the checkpoint", path));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  const std::string file = std::move(ss).str();
+  const auto file_size = static_cast<std::uint64_t>(in.tellg());
+  in.seekg(0);
   constexpr std::size_t header = sizeof magic + sizeof(std::uint32_t) + sizeof(std::uint64_t);
-  if (file.size() < header + sizeof(std::uint64_t) || file.compare(0, sizeof magic, magic, 8) != 0)
+  char head[header] = {};
+  if (file_size < header + sizeof(std::uint64_t) || !in.read(head, header) ||
+      std::memcmp(head, magic, sizeof magic) != 0)
     throw CheckpointError(fmt::format("{}: not a Talus checkpoint", path));
   std::uint32_t version = 0;
   std::uint64_t size = 0, sum = 0;
-  std::memcpy(&version, file.data() + sizeof magic, sizeof version);
-  std::memcpy(&size, file.data() + sizeof magic + sizeof version, sizeof size);
+  std::memcpy(&version, head + sizeof magic, sizeof version);
+  std::memcpy(&size, head + sizeof magic + sizeof version, sizeof size);
   if (version != format_version)
     throw CheckpointError(fmt::format("{}: checkpoint format {}, this Talus reads {}", path,
                                       version, format_version));
-  if (size != file.size() - header - sizeof sum)
-    throw CheckpointError(fmt::format("{}: truncated checkpoint ({} of {} bytes)", path,
-                                      file.size(), size + header + sizeof sum));
-  std::memcpy(&sum, file.data() + header + size, sizeof sum);
-  std::string payload = file.substr(header, size);
+  if (size != file_size - header - sizeof sum)
+    throw CheckpointError(fmt::format("{}: truncated checkpoint ({} of {} bytes)", path, file_size,
+                                      size + header + sizeof sum));
+  std::string payload(size, '\0');
+  if (!in.read(payload.data(), static_cast<std::streamsize>(size)) ||
+      !in.read(reinterpret_cast<char*>(&sum), sizeof sum))
+    throw CheckpointError(fmt::format("{}: cannot read the checkpoint", path));
   if (fnv1a(payload) != sum)
     throw CheckpointError(fmt::format("{}: corrupt checkpoint (checksum mismatch)", path));
   return payload;

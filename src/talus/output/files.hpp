@@ -2,6 +2,7 @@
 // flush it to disk, then rename it over the target.
 #pragma once
 
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -27,5 +28,7 @@ void prepare_run_folder(const std::string& dir, bool overwrite);
 
 // Replaces `path` with `content` atomically. Throws OutputError naming the file and the reason.
 void write_file_atomic(const std::string& path, std::string_view content);
+// The same with the parts written one after another (no copy of them joined).
+void write_file_atomic(const std::string& path, std::initializer_list<std::string_view> parts);
 
 } // namespace talus
