@@ -452,11 +452,16 @@ private:
     double bytes = 0.0;
     whole([&](Simulation<D>& s) {
       s.check_particles(); // a checkpoint is a good state, or none is written
-      SaveArchive ar;
-      int dim = D;
-      std::string file = std::filesystem::absolute(c_.file).string(), text = c_.text;
-      ar.io(dim), ar.io(file), ar.io(text);
-      serialize(ar);
+      auto save = [&](SaveArchive& ar) {
+        int dim = D;
+        std::string file = std::filesystem::absolute(c_.file).string(), text = c_.text;
+        ar.io(dim), ar.io(file), ar.io(text);
+        serialize(ar);
+      };
+      SaveArchive sizing(SaveArchive::Mode::count), ar; // sized first: one allocation
+      save(sizing);
+      ar.reserve(sizing.size());
+      save(ar);
       std::error_code ec;
       std::filesystem::create_directories(opt_.out_dir + "/checkpoints", ec);
       if (ec)
@@ -468,13 +473,9 @@ private:
     });
     last_checkpoint_ = path;
     ++checkpoints_written_;
-    if (opt_.log && !progress_tty())
+    if (opt_.log && !::isatty(STDOUT_FILENO)) // a terminal's progress line is redrawn: no line
       *opt_.log << fmt::format("talus: checkpoint {} ({:.1f} MB, {:.2f} s)\n", path, bytes / 1e6,
                                std::chrono::duration<double>(Clock::now() - t0).count());
-  }
-  // Whether the progress goes to a terminal (its line is redrawn: no checkpoint lines there).
-  static bool progress_tty() {
-    return ::isatty(STDOUT_FILENO);
   }
 
   void finish(RunResult& r, Clock::time_point wall0, int threads) {

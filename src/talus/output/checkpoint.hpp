@@ -32,10 +32,13 @@ constexpr bool stored_raw = std::is_trivially_copyable_v<T>;
 template <class S, int R, int C, int O, int MR, int MC>
 constexpr bool stored_raw<Eigen::Matrix<S, R, C, O, MR, MC>> = (R > 0 && C > 0);
 
-// Writes values into a byte buffer.
+// Writes values into a byte buffer; or, made with Mode::count, only counts their bytes (so that
+// the buffer can be reserved at once: growing it would copy the whole state).
 class SaveArchive {
 public:
   static constexpr bool loading = false;
+  enum class Mode { save, count };
+  explicit SaveArchive(Mode mode = Mode::save) : counting_(mode == Mode::count) {}
 
   template <class T>
   requires stored_raw<T>
@@ -61,10 +64,19 @@ public:
   }
 
   std::string& bytes() { return buf_; }
+  std::size_t size() const { return counting_ ? counted_ : buf_.size(); }
+  void reserve(std::size_t n) { buf_.reserve(n); }
 
 private:
-  void raw(const void* p, std::size_t n) { buf_.append(static_cast<const char*>(p), n); }
+  void raw(const void* p, std::size_t n) {
+    if (counting_)
+      counted_ += n;
+    else
+      buf_.append(static_cast<const char*>(p), n);
+  }
   std::string buf_;
+  bool counting_ = false;
+  std::size_t counted_ = 0;
 };
 
 // Reads values back; any read past the end throws CheckpointError.
