@@ -2,6 +2,7 @@
 
 #include "talus/case/parse.hpp"
 #include "talus/output/checkpoint.hpp"
+#include "talus/output/frame_totals.hpp"
 #include "talus/output/progress.hpp"
 #include "talus/output/results_monitor.hpp"
 #include "talus/output/run_writer.hpp"
@@ -28,7 +29,6 @@ namespace talus {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using results::energy_budget;
 using results::figure_chunk;
 using results::ResultsMonitor;
 using results::StepFigures;
@@ -139,46 +139,61 @@ public:
   }
 
 private:
-  // The writer (rank 0) and the monitor (every process: its step figures are collective), both
-  // made from the whole state; the probes' particles are rank 0's choice.
+  // The writer (rank 0) and the monitor (every process: its step figures are collective), from
+  // the probes' particles and the totals of the state now (collective).
   void start_output() {
-    whole([&](Simulation<D>& s) {
-      if (!writer_) writer_.emplace(opt_.out_dir, s);
-      if (!monitor_) monitor_.emplace(s);
+    std::vector<std::uint32_t> ids = sim_.probe_ids();
+    const FrameTotals<D> totals = frame_totals(sim_, ids);
+    on_root([&] {
+      if (!writer_) writer_.emplace(opt_.out_dir, sim_, ids);
     });
-    if (!monitor_) monitor_.emplace(sim_);
-#ifdef TALUS_MPI
-    if (process_count() > 1)
-      MPI_Bcast(monitor_->probe_ids().data(), static_cast<int>(monitor_->probe_ids().size()),
-                MPI_UINT32_T, 0, MPI_COMM_WORLD);
-#endif
+    if (!monitor_) monitor_.emplace(sim_, std::move(ids), totals);
   }
 
-  // Calls f(sim) with the whole state: on one process, sim_ itself; on several, on rank 0 while
-  // the others wait (Distributed::with_whole_state). Collective.
+  // Calls f() on rank 0, the process that writes the run folder; an OutputError there is thrown
+  // on every process. Collective.
   template <class F>
-  void whole(F&& f) {
+  void on_root(F&& f) {
+    int failed = 0;
+    std::string error;
+    if (root_) try {
+        f();
+      } catch (const OutputError& e) {
+        failed = 1, error = e.what();
+      }
 #ifdef TALUS_MPI
-    if (dist_) { // an output error on rank 0 stops every process
-      int failed = 0;
-      std::string error;
-      dist_->with_whole_state([&](Simulation<D>& s) {
-        try {
-          f(s);
-        } catch (const OutputError& e) {
-          failed = 1, error = e.what();
-        }
-      });
+    if (process_count() > 1) {
       MPI_Bcast(&failed, 1, MPI_INT, 0, MPI_COMM_WORLD);
-      if (!failed) return;
       int n = static_cast<int>(error.size());
       MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
       error.resize(static_cast<std::size_t>(n));
       MPI_Bcast(error.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
-      throw OutputError(error);
     }
 #endif
-    if (root_) f(sim_);
+    if (failed) throw OutputError(error);
+  }
+
+  // Calls f(sim) on rank 0 with the whole state: on one process, sim_ itself; on several, the
+  // state gathered (Distributed::with_whole_state). Collective.
+  template <class F>
+  void whole(F&& f) {
+#ifdef TALUS_MPI
+    if (dist_) { // f runs on rank 0 alone: its error is agreed on once the others rejoin
+      std::optional<OutputError> failure;
+      dist_->with_whole_state([&](Simulation<D>& s) {
+        try {
+          f(s);
+        } catch (const OutputError& e) {
+          failure.emplace(e);
+        }
+      });
+      on_root([&] {
+        if (failure) throw *failure;
+      });
+      return;
+    }
+#endif
+    on_root([&] { f(sim_); });
   }
 
   // A new case on several processes is seeded on each process's slab alone (seed_share.hpp);
@@ -291,26 +306,34 @@ private:
 
   // A row in every CSV (forces as time means since the previous row) and a frame.
   void write_frame() {
-    whole([&](Simulation<D>& s) { writer_->write_frame(s); });
+    const FrameTotals<D> totals = frame_totals(sim_, monitor_->probe_ids());
+    whole([&](Simulation<D>& s) { writer_->write_frame(s, totals); });
     sim_.reset_force_means();
-    write_running_summary();
+    write_running_summary(&totals);
+  }
+
+  // The monitor's figures for summary.json, from `totals` or the state's (collective); none
+  // before output starts.
+  nlohmann::json results(const FrameTotals<D>* totals = nullptr) {
+    if (!monitor_) return nlohmann::json::object();
+    if (totals) return monitor_->json(sim_, *totals, settle_ke_);
+    return monitor_->json(sim_, frame_totals(sim_, monitor_->probe_ids()), settle_ke_);
   }
 
   // summary.json with status "running": from the first step on, updated at each frame and each
   // checkpoint, so that a run killed outright still says it started, how far it got and where
   // its newest checkpoint is. While settling (no frames yet) a temporary writer writes it.
-  void write_running_summary() {
+  void write_running_summary(const FrameTotals<D>* totals = nullptr) {
     const double wall = std::chrono::duration<double>(Clock::now() - wall0_).count();
     const std::string message =
         last_checkpoint_.empty() ? std::string() : "newest checkpoint: " + last_checkpoint_;
-    whole([&](Simulation<D>& s) {
-      const nlohmann::json results =
-          monitor_ ? monitor_->json(s, settle_ke_) : nlohmann::json::object();
+    const nlohmann::json figures = results(totals);
+    on_root([&] {
       if (writer_)
-        writer_->write_summary(s, "running", wall, stepping_, threads_, message, results);
+        writer_->write_summary(sim_, "running", wall, stepping_, threads_, message, figures);
       else
-        RunWriter<D>(opt_.out_dir, s)
-            .write_summary(s, "running", wall, stepping_, threads_, message, results);
+        RunWriter<D>(opt_.out_dir, sim_, {})
+            .write_summary(sim_, "running", wall, stepping_, threads_, message, figures);
     });
   }
 
@@ -358,7 +381,7 @@ private:
 
   // The end of settling: time restarts at 0, the run folder starts with its first frame.
   void release() {
-    whole([&](Simulation<D>&) { settle_ke_ = kinetic_energy(); });
+    settle_ke_ = frame_totals(sim_, {}).kinetic_energy;
     if (opt_.log)
       *opt_.log << fmt::format("talus: settled for {} s, kinetic energy {:.4g} J; released\n",
                                c_.initial_state.settle_time, settle_ke_);
@@ -437,14 +460,6 @@ private:
     return ck.every > 0 ? ck.every * (std::floor(sim_.time() / ck.every + 1e-9) + 1.0) : inf;
   }
 
-  double kinetic_energy() const {
-    double ke = 0.0;
-    const auto& P = sim_.particles();
-    for (std::size_t p = 0; p < P.size(); ++p)
-      ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
-    return ke;
-  }
-
   // The whole state, written by rank 0: a checkpoint restarts on any number of processes.
   void save_checkpoint() {
     const auto t0 = Clock::now();
@@ -485,10 +500,11 @@ private:
     r.particle_updates_per_second =
         stepping_ > 0 ? static_cast<double>(r.particles) * static_cast<double>(r.steps) / stepping_
                       : 0.0;
-    whole([&](Simulation<D>& s) {
-      if (!writer_) writer_.emplace(opt_.out_dir, s);
-      writer_->write_summary(s, r.status, r.wall_seconds, stepping_, threads, r.message,
-                             monitor_ ? monitor_->json(s, settle_ke_) : nlohmann::json::object());
+    const nlohmann::json figures = results();
+    on_root([&] {
+      if (!writer_) writer_.emplace(opt_.out_dir, sim_, std::vector<std::uint32_t>{});
+      writer_->write_summary(sim_, r.status, r.wall_seconds, stepping_, threads, r.message,
+                             figures);
     });
   }
 
@@ -524,35 +540,10 @@ RunResult run_dim(const Case& c, const RunOptions& opt, LoadArchive* restore = n
   return runner.run(restore, restored_from);
 }
 
-// The run folder, and in its inputs/ the files the case read, read before the folder is
-// emptied (the case may be an earlier run's own case.toml, run again into its folder with
-// --overwrite).
-void prepare_inputs(const Case& c, const RunOptions& opt) {
-  std::vector<std::string> inputs;
-  for (const InputFile& f : c.inputs) {
-    std::ifstream in(f.source, std::ios::binary);
-    if (!in) throw OutputError(fmt::format("{}: cannot read the case's input file", f.source));
-    inputs.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
-  prepare_run_folder(opt.out_dir, opt.overwrite);
-  if (!c.inputs.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(opt.out_dir, ec);
-    if (ec)
-      throw OutputError(
-          fmt::format("{}: cannot create the run folder: {}", opt.out_dir, ec.message()));
-    std::filesystem::create_directories(opt.out_dir + "/inputs", ec);
-    if (ec)
-      throw OutputError(fmt::format("{}/inputs: cannot create: {}", opt.out_dir, ec.message()));
-  }
-  for (std::size_t i = 0; i < c.inputs.size(); ++i)
-    write_file_atomic(opt.out_dir + "/" + c.inputs[i].copy, inputs[i]);
-}
-
 } // namespace
 
 RunResult run_case(const Case& c, const RunOptions& opt) {
-  on_rank_zero([&] { prepare_inputs(c, opt); });
+  on_rank_zero([&] { prepare_run_inputs(c, opt.out_dir, opt.overwrite); });
   return c.simulation.dimension == 2 ? run_dim<2>(c, opt) : run_dim<3>(c, opt);
 }
 

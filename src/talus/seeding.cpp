@@ -21,6 +21,7 @@ Seeded<D> seed_case(const Case& c) {
     for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
       mass += P.m[p];
     s.body_mass.push_back(mass);
+    s.body_count.push_back(P.body_begin[b + 1] - P.body_begin[b]);
   }
   for (std::size_t p = 0; p < P.size(); ++p)
     if (P.iface[p] >= 0 && has_pore_state(c.interfaces[P.iface[p]]))

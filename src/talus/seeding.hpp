@@ -16,9 +16,10 @@ namespace talus {
 
 template <int D>
 struct Seeded {
-  Particles<D> particles;        // by id; ids number the whole case's particles in fill order
-  std::size_t total = 0;         // the whole case's particle count
-  std::vector<double> body_mass; // per body: its particles' masses summed in id order
+  Particles<D> particles;              // by id; ids number the whole case's particles in fill order
+  std::size_t total = 0;               // the whole case's particle count
+  std::vector<double> body_mass;       // per body: its particles' masses summed in id order
+  std::vector<std::size_t> body_count; // per body: the whole case's particles
   // The whole case's particles on an interface with pore pressure: (id, interface), by id.
   std::vector<std::pair<std::uint32_t, int>> pore_particles;
   std::vector<std::string> warnings; // the set-up's (interfaces that bond nothing, far probes)

@@ -26,6 +26,7 @@ Simulation<D>::Simulation(const Case& c, Seeded<D> seeded) : case_data_(c) {
   for (std::size_t p = 0; p < particles_.size(); ++p)
     index_of_id_[particles_.id[p]] = static_cast<std::uint32_t>(p);
   warnings_ = std::move(seeded.warnings);
+  body_count_ = std::move(seeded.body_count);
   setup_ = make_setup<D>(c, grid_, seeded.body_mass);
   const int B = particles_.num_bodies();
   fields_.resize(B);
@@ -68,9 +69,14 @@ Simulation<D>::Simulation(const Case& c, Seeded<D> seeded) : case_data_(c) {
 
 template <int D>
 void Simulation<D>::set_energy_baseline() {
-  strain_energy0_.clear();
-  for (int b = 0; b < num_bodies(); ++b)
-    strain_energy0_.push_back(strain_energy(b));
+  const int B = num_bodies();
+  std::vector<ExactSum> gravity(B), strain(B);
+  for (int b = 0; b < B; ++b)
+    add_energy_terms(b, true, gravity[b], strain[b]);
+  if (exchange_) exchange_->sum_exact(strain.data(), strain.size());
+  strain_energy0_.resize(B);
+  for (int b = 0; b < B; ++b)
+    strain_energy0_[b] = strain[b].value();
 }
 
 // One explicit step (docs/architecture.md, "One time step"): one phase per line, with the
@@ -182,51 +188,10 @@ double Simulation<D>::pore_pressure(std::size_t p) const {
 }
 
 template <int D>
-typename Simulation<D>::InterfaceWater Simulation<D>::interface_water(int f) const {
-  const auto& P = particles_;
-  InterfaceWater w;
-  const bool band = setup_.bands[f].has_value();
-  double area = 0.0;
-  w.temperature_max = band ? -inf : std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t p = 0; p < P.size(); ++p) {
-    if (P.iface[p] != f || P.field[p] != P.body_of(p)) continue;
-    const double A = P.iface_area[p], pp = interface_pore_pressure(p);
-    area += A;
-    w.pressure_mean += pp * A;
-    w.pressure_max = std::max(w.pressure_max, pp);
-    if (band) {
-      const double T = band_temperature(p);
-      w.temperature_mean += T * A;
-      w.temperature_max = std::max(w.temperature_max, T);
-    }
-  }
-  if (area > 0.0) w.pressure_mean /= area, w.temperature_mean /= area;
-  if (!band) w.temperature_mean = std::numeric_limits<double>::quiet_NaN();
-  return w;
-}
-
-template <int D>
 double Simulation<D>::band_temperature(std::size_t p) const {
   const auto& P = particles_;
   if (P.pore[p] < 0 || !setup_.bands[P.iface[p]]) return std::numeric_limits<double>::quiet_NaN();
   return setup_.interfaces[P.iface[p]].thermal_pressurization->temperature + pore_state_[P.pore[p]];
-}
-
-template <int D>
-double Simulation<D>::gravity_work(int b) const {
-  const auto& P = particles_;
-  double w = 0.0;
-  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
-    w += P.m[p] * setup_.gravity.dot(P.x[p] - P.x0[p]);
-  // Below a water level the buoyancy's work, rho_w / rho m g (H(z0) - H(z)) (water.hpp).
-  const WaterSetup<D>& W = setup_.water;
-  const BodySetup<D>& body = setup_.bodies[b];
-  if (W.on && body.buoyancy > 0.0)
-    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
-      w += body.buoyancy * P.m[p] * W.g *
-           (submerged_integral(W.level, W.up.dot(P.x0[p]), body.particle_height) -
-            submerged_integral(W.level, W.up.dot(P.x[p]), body.particle_height));
-  return w;
 }
 
 namespace {
@@ -239,38 +204,70 @@ double elastic_energy(const Voigt& stress, double vol, double K, double G) {
 
 } // namespace
 
-// Elastic energy held by body b: sum V (p^2 / 2K + J2 / 2G), in particle order.
+// Gravity's work since release, m g . (x - x0), and below a water level the buoyancy's,
+// rho_w / rho m g (H(z0) - H(z)) (water.hpp); the elastic energy V (p^2 / 2K + J2 / 2G).
+template <int D>
+void Simulation<D>::add_energy_terms(int b, bool own_only, ExactSum& gravity,
+                                     ExactSum& strain) const {
+  const auto& P = particles_;
+  const WaterSetup<D>& W = setup_.water;
+  const BodySetup<D>& body = setup_.bodies[b];
+  const bool buoyant = W.on && body.buoyancy > 0.0;
+  const double K = std::visit([](const auto& m) { return m.bulk_modulus(); }, body.material.model);
+  const double G = std::visit([](const auto& m) { return m.shear_modulus(); }, body.material.model);
+  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
+    if (own_only && !is_own(p)) continue;
+    gravity += P.m[p] * setup_.gravity.dot(P.x[p] - P.x0[p]);
+    if (buoyant)
+      gravity += body.buoyancy * P.m[p] * W.g *
+                 (submerged_integral(W.level, W.up.dot(P.x0[p]), body.particle_height) -
+                  submerged_integral(W.level, W.up.dot(P.x[p]), body.particle_height));
+    if (!body.rigid) strain += elastic_energy(P.stress[p], P.vol[p], K, G);
+  }
+}
+
+template <int D>
+double Simulation<D>::gravity_work(int b) const {
+  ExactSum gravity, strain;
+  add_energy_terms(b, false, gravity, strain);
+  return gravity.value();
+}
+
 template <int D>
 double Simulation<D>::strain_energy(int b) const {
-  const auto& P = particles_;
-  const BodySetup<D>& body = setup_.bodies[b];
-  if (body.rigid) return 0.0;
-  const double K = std::visit([](const auto& m) { return m.bulk_modulus(); }, body.material.model);
-  const double G = std::visit([](const auto& m) { return m.shear_modulus(); }, body.material.model);
-  double u = 0.0;
-  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
-    u += elastic_energy(P.stress[p], P.vol[p], K, G);
-  return u;
+  ExactSum gravity, strain;
+  add_energy_terms(b, false, gravity, strain);
+  return strain.value();
 }
 
-template <int D>
-double Simulation<D>::strain_energy_of(std::size_t p) const {
-  const BodySetup<D>& body = setup_.bodies[particles_.body_of(p)];
-  if (body.rigid) return 0.0;
-  const double K = std::visit([](const auto& m) { return m.bulk_modulus(); }, body.material.model);
-  const double G = std::visit([](const auto& m) { return m.shear_modulus(); }, body.material.model);
-  return elastic_energy(particles_.stress[p], particles_.vol[p], K, G);
-}
-
+// Each process's nearest own particle, then the least distance over the processes and, among
+// the processes at that distance, the least id.
 template <int D>
 std::vector<std::uint32_t> Simulation<D>::probe_ids() const {
-  std::vector<std::uint32_t> ids;
-  for (const ProbeSpec& pr : case_data_.probes) {
+  const auto& P = particles_;
+  const std::vector<ProbeSpec>& probes = case_data_.probes;
+  const int K = static_cast<int>(probes.size());
+  std::vector<double> d2(K, inf), id(K, inf);
+  for (int k = 0; k < K; ++k) {
     Vec<D> near;
     for (int d = 0; d < D; ++d)
-      near[d] = pr.near[d];
-    ids.push_back(particles_.id[nearest_particle(pr.body, near)]);
+      near[d] = probes[k].near[d];
+    for (std::size_t p = P.body_begin[probes[k].body]; p < P.body_begin[probes[k].body + 1]; ++p) {
+      const double q = (P.x[p] - near).squaredNorm();
+      if (is_own(p) && (q < d2[k] || (q == d2[k] && P.id[p] < id[k]))) d2[k] = q, id[k] = P.id[p];
+    }
   }
+  if (exchange_ && K > 0) {
+    std::vector<double> least(d2), unused(d2);
+    exchange_->min_max(least.data(), unused.data(), K);
+    for (int k = 0; k < K; ++k)
+      if (d2[k] != least[k]) id[k] = inf; // another process holds a nearer particle
+    unused = id;
+    exchange_->min_max(id.data(), unused.data(), K);
+  }
+  std::vector<std::uint32_t> ids;
+  for (int k = 0; k < K; ++k)
+    ids.push_back(static_cast<std::uint32_t>(id[k]));
   return ids;
 }
 

@@ -85,12 +85,18 @@ public:
   // elastic energy stored plus the plastic work) and the elastic energy held now. With the kinetic
   // energy, what does not balance is the scheme's own dissipation and the work of the grid
   // conditions.
+  // gravity_work and strain_energy sum the particles this Simulation holds (exact_sum.hpp): on
+  // several processes, add_energy_terms' own particles' terms summed over the processes.
   double gravity_work(int b) const;
   double contact_work(int b) const { return record_.work[b]; }
   double internal_work(int b) const { return internal_work_[b]; }
   double strain_energy(int b) const;
-  // Particle p's term of its body's strain_energy (0 in a rigid body).
-  double strain_energy_of(std::size_t p) const;
+  // Adds body b's gravity work and elastic energy terms to `gravity` and `strain`: of every
+  // particle held, or (own_only, on several processes) of this process's own.
+  void add_energy_terms(int b, bool own_only, ExactSum& gravity, ExactSum& strain) const;
+  // Whether particle p counts in this process's sums: on one process every particle does.
+  bool is_own(std::size_t p) const { return !exchange_ || exchange_->is_own(p); }
+  Exchange* exchange() const { return exchange_; }
   // The elastic energy at release (or at the start, without settling).
   double strain_energy_at_release(int b) const { return strain_energy0_[b]; }
 
@@ -108,13 +114,6 @@ public:
   // The pore pressure of particle p (Pa): the hydrostatic rho_w g (level - z) below a water
   // level, plus an interface particle's excess.
   double pore_pressure(std::size_t p) const;
-  // Per interface with pore pressure: the area means and the largest of its particles' excess
-  // pore pressure (Pa) and band temperature (deg C; NaN without a band), orphans aside.
-  struct InterfaceWater {
-    double pressure_mean = 0.0, pressure_max = 0.0;
-    double temperature_mean = 0.0, temperature_max = 0.0;
-  };
-  InterfaceWater interface_water(int f) const;
 
   // The pore pool: per interface particle with pore pressure (Particles::pore), the band-mean
   // temperature and pore pressure rises (zero without a band), its compressive normal stress
@@ -136,18 +135,20 @@ public:
   void set_settling(bool on) { settling_ = on; }
   bool settling() const { return settling_; }
   void release();
-  // The elastic energy the budget counts from (strain_energy_at_release): the particles' now, or
-  // per body as given (formed across processes).
+  // The elastic energy the budget counts from (strain_energy_at_release): the particles' now,
+  // summed over every process's own particles (collective on several processes).
   void set_energy_baseline();
-  void set_energy_baseline(std::vector<double> per_body) { strain_energy0_ = std::move(per_body); }
 
   // The stable time step of the current state (CFL) or the fixed one.
   double compute_time_step() const;
   // The whole case's particle count (on several processes too).
   std::size_t case_particles() const { return index_of_id_.size(); }
+  // The whole case's particles of body b.
+  std::size_t body_particles(int b) const { return body_count_[b]; }
   // Current index of the particle with stable id `id`.
   std::size_t index_of(std::uint32_t id) const { return index_of_id_[id]; }
-  // Stable ids of the case's probes: the particle of the probe's body nearest its point now.
+  // Stable ids of the case's probes: the particle of the probe's body nearest its point now
+  // (of equals, the least id). Collective on several processes.
   std::vector<std::uint32_t> probe_ids() const;
   // Index of the particle nearest `point` in body b (for probes).
   std::size_t nearest_particle(int body, const Vec<D>& point) const;
@@ -326,6 +327,7 @@ private:
   bool particles_checked_ = false;
   bool settling_ = false;
   std::vector<std::uint32_t> index_of_id_;
+  std::vector<std::size_t> body_count_; // per body: the whole case's particles
   PhaseTimes phase_times_;
   std::vector<std::string> warnings_;
   std::vector<double> pore_state_; // thermal pressurization (pore_state())

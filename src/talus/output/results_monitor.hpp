@@ -4,6 +4,7 @@
 #pragma once
 
 #include "talus/case/case.hpp"
+#include "talus/output/frame_totals.hpp"
 #include "talus/solver.hpp"
 
 #include <cstdint>
@@ -14,14 +15,11 @@ namespace talus::results {
 
 // Where the potential energy a body released went (since release): J, per metre in 2D.
 template <int D>
-nlohmann::json energy_budget(const Simulation<D>& sim, int b) {
-  const auto& P = sim.particles();
-  double ke = 0.0;
-  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
-    ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
-  const double gravity = sim.gravity_work(b), contact = sim.contact_work(b);
+nlohmann::json energy_budget(const Simulation<D>& sim, const FrameTotals<D>& totals, int b) {
+  const BodyTotals<D>& T = totals.bodies[b];
+  const double ke = T.kinetic_energy, gravity = T.gravity_work, contact = sim.contact_work(b);
   const double internal = sim.internal_work(b);
-  const double elastic = sim.strain_energy(b) - sim.strain_energy_at_release(b);
+  const double elastic = T.strain_energy - sim.strain_energy_at_release(b);
   return {{"gravity_work_J", gravity},
           {"kinetic_J", ke},
           {"contact_work_J", contact},
@@ -45,16 +43,18 @@ constexpr std::int64_t figure_chunk = 1024; // particles per chunk of the body s
 template <int D>
 class ResultsMonitor {
 public:
-  explicit ResultsMonitor(const Simulation<D>& sim)
-      : body_(sim.case_().results.body), probe_ids_(sim.probe_ids()) {
+  // `totals`: frame_totals(sim, probe_ids) of the state tracking starts from.
+  ResultsMonitor(const Simulation<D>& sim, std::vector<std::uint32_t> probe_ids,
+                 const FrameTotals<D>& totals)
+      : body_(sim.case_().results.body), probe_ids_(std::move(probe_ids)) {
     probe_peak_.assign(probe_ids_.size(), 0.0);
     pore_peak_.assign(sim.setup().interfaces.size(), 0.0);
     temperature_peak_.assign(sim.setup().interfaces.size(), -inf);
-    if (body_ >= 0) centroid0_ = centroid(sim);
+    if (body_ >= 0) centroid0_ = totals.bodies[body_].centroid;
   }
 
   int body() const { return body_; }
-  std::vector<std::uint32_t>& probe_ids() { return probe_ids_; }
+  const std::vector<std::uint32_t>& probe_ids() const { return probe_ids_; }
 
   void update(const StepFigures& f, double time, double stop_speed) {
     for (std::size_t k = 0; k < probe_ids_.size(); ++k)
@@ -71,20 +71,21 @@ public:
     last_speed_ = speed;
   }
 
-  nlohmann::json json(const Simulation<D>& sim, double settle_ke) const {
+  // `totals`: frame_totals(sim, probe_ids()).
+  nlohmann::json json(const Simulation<D>& sim, const FrameTotals<D>& totals,
+                      double settle_ke) const {
     nlohmann::json j = nlohmann::json::object();
     const Case& c = sim.case_();
-    const auto& P = sim.particles();
     if (c.initial_state.settle_time > 0.0) {
       j["settle_time_s"] = c.initial_state.settle_time;
       j["kinetic_energy_at_release_J"] = settle_ke;
     }
     nlohmann::json probes = nlohmann::json::object();
     for (std::size_t k = 0; k < probe_ids_.size(); ++k) {
-      const std::size_t p = sim.index_of(probe_ids_[k]);
+      const ProbeState<D>& pr = totals.probes[k];
       probes[c.probes[k].name] = {{"peak_speed_m_s", probe_peak_[k]},
-                                  {"displacement_x_m", P.x[p][0] - P.x0[p][0]},
-                                  {"displacement_m", (P.x[p] - P.x0[p]).norm()}};
+                                  {"displacement_x_m", pr.x[0] - pr.x0[0]},
+                                  {"displacement_m", (pr.x - pr.x0).norm()}};
     }
     if (!probe_ids_.empty()) j["probes"] = probes;
     nlohmann::json water = nlohmann::json::object();
@@ -104,8 +105,8 @@ public:
     const bool stopped = last_speed_ < c.results.stop_speed;
     j["runout_duration_s"] = stopped ? nlohmann::json(last_moving_) : nlohmann::json(nullptr);
     j["still_moving_at_end"] = !stopped;
-    j["centroid_displacement_x_m"] = centroid(sim)[0] - centroid0_[0];
-    j["energy"] = energy_budget(sim, body_);
+    j["centroid_displacement_x_m"] = totals.bodies[body_].centroid[0] - centroid0_[0];
+    j["energy"] = energy_budget(sim, totals, body_);
     return j;
   }
 
@@ -116,14 +117,6 @@ public:
   }
 
 private:
-  Vec<D> centroid(const Simulation<D>& sim) const {
-    const auto& P = sim.particles();
-    double m = 0.0;
-    Vec<D> mx = Vec<D>::Zero();
-    for (std::size_t p = P.body_begin[body_]; p < P.body_begin[body_ + 1]; ++p)
-      m += P.m[p], mx += P.m[p] * P.x[p];
-    return mx / m;
-  }
   int body_;
   std::vector<std::uint32_t> probe_ids_;
   std::vector<double> probe_peak_;

@@ -1,11 +1,14 @@
 #include "talus/output/run_writer.hpp"
 
 #include "talus/output/files.hpp"
+#include "talus/output/frame_totals.hpp"
 #include "talus/output/vtu.hpp"
 #include "talus/version.hpp"
 
 #include <filesystem>
 #include <fmt/format.h>
+#include <fstream>
+#include <iterator>
 
 namespace talus {
 
@@ -95,7 +98,9 @@ std::string legend_presets(const Case& c) {
 } // namespace
 
 template <int D>
-RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::move(dir)) {
+RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim,
+                        std::vector<std::uint32_t> probe_ids)
+    : dir_(std::move(dir)), probe_ids_(std::move(probe_ids)) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec)
@@ -106,7 +111,6 @@ RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::m
                     "for tools to read.\n# To run the case again, run case.toml.\n" +
                         sim.case_().resolved);
   write_file_atomic(dir_ + "/legend.json", legend_presets(sim.case_()));
-  probe_ids_ = sim.probe_ids();
   energy_ = "time,step,dt,kinetic_energy" + components<D>("momentum_") + "\n";
   bodies_ = "time,body,mass" + components<D>("centroid_") + components<D>("velocity_") +
             ",mean_speed,max_speed,kinetic_energy,gravity_work,contact_work,internal_work,"
@@ -122,38 +126,21 @@ RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim) : dir_(std::m
 }
 
 template <int D>
-void RunWriter<D>::write_frame(const Simulation<D>& sim) {
-  const auto& P = sim.particles();
+void RunWriter<D>::write_rows(const Simulation<D>& sim, const FrameTotals<D>& totals) {
   const Case& c = sim.case_();
   const double t = sim.time();
-  double ke_total = 0.0;
-  Vec<D> mom_total = Vec<D>::Zero();
-  for (int b = 0; b < P.num_bodies(); ++b) {
-    double mass = 0.0, ke = 0.0, speed_sum = 0.0, max_speed = 0.0;
-    std::size_t orphans = 0;
-    Vec<D> mx = Vec<D>::Zero(), mv = Vec<D>::Zero();
-    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
-      const double speed = P.v[p].norm();
-      mass += P.m[p];
-      mx += P.m[p] * P.x[p];
-      mv += P.m[p] * P.v[p];
-      ke += 0.5 * P.m[p] * speed * speed;
-      speed_sum += P.m[p] * speed;
-      max_speed = std::max(max_speed, speed);
-      orphans += P.field[p] != b;
-    }
-    ke_total += ke;
-    mom_total += mv;
+  const int B = sim.num_bodies();
+  for (int b = 0; b < B; ++b) {
+    const BodyTotals<D>& T = totals.bodies[b];
     bodies_ +=
         fmt::format("{:.10g},{},{:.10g}{}{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
                     "{:.10g},{}\n",
-                    t, csv_text(c.bodies[b].name), mass, join<D>(mx / mass), join<D>(mv / mass),
-                    speed_sum / mass, max_speed, ke, sim.gravity_work(b), sim.contact_work(b),
-                    sim.internal_work(b), sim.strain_energy(b), orphans);
+                    t, csv_text(c.bodies[b].name), T.mass, join<D>(T.centroid), join<D>(T.velocity),
+                    T.mean_speed, T.max_speed, T.kinetic_energy, T.gravity_work,
+                    sim.contact_work(b), sim.internal_work(b), T.strain_energy, T.orphans);
   }
-  energy_ += fmt::format("{:.10g},{},{:.10g},{:.10g}{}\n", t, sim.steps(), sim.last_dt(), ke_total,
-                         join<D>(mom_total));
-  const int B = P.num_bodies();
+  energy_ += fmt::format("{:.10g},{},{:.10g},{:.10g}{}\n", t, sim.steps(), sim.last_dt(),
+                         totals.kinetic_energy, join<D>(totals.momentum));
   for (int a = 0; a < B; ++a)
     for (int b = 0; b < B; ++b)
       if (a != b && !sim.mean_contact_force(a, b).isZero())
@@ -166,8 +153,7 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
         csv_text(c.bodies[c.interfaces[f].a].name + "-" + c.bodies[c.interfaces[f].b].name),
         F.cohesive, F.frictional, F.normal);
     const bool own = sim.setup().interface_pressure[f], band = sim.setup().bands[f].has_value();
-    const auto water =
-        own ? sim.interface_water(static_cast<int>(f)) : typename Simulation<D>::InterfaceWater{};
+    const InterfaceWater& water = totals.water[f];
     if (sim.setup().pore_pressure)
       interfaces_ += own ? fmt::format(",{:.10g},{:.10g}", water.pressure_mean, water.pressure_max)
                          : std::string(",,");
@@ -178,13 +164,18 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim) {
     interfaces_ += "\n";
   }
   for (std::size_t k = 0; k < probe_ids_.size(); ++k) {
-    std::size_t p = 0;
-    while (P.id[p] != probe_ids_[k])
-      ++p;
-    probes_ +=
-        fmt::format("{:.10g},{}{}{},{:.10g},{:.10g}\n", t, csv_text(c.probes[k].name),
-                    join<D>(P.x[p]), join<D>(P.v[p]), P.v[p].norm(), (P.x[p] - P.x0[p]).norm());
+    const ProbeState<D>& pr = totals.probes[k];
+    probes_ += fmt::format("{:.10g},{}{}{},{:.10g},{:.10g}\n", t, csv_text(c.probes[k].name),
+                           join<D>(pr.x), join<D>(pr.v), pr.v.norm(), (pr.x - pr.x0).norm());
   }
+}
+
+template <int D>
+void RunWriter<D>::write_frame(const Simulation<D>& sim, const FrameTotals<D>& totals) {
+  write_rows(sim, totals);
+  const auto& P = sim.particles();
+  const Case& c = sim.case_();
+  const double t = sim.time();
   if (c.output.particles) {
     const std::string name = fmt::format("particles_{:06d}.vtu", frames_.size());
     std::vector<int> mats;
@@ -236,17 +227,17 @@ void RunWriter<D>::write_summary(const Simulation<D>& sim, const std::string& st
                                  double wall_seconds, double stepping_seconds, int threads,
                                  const std::string& message, const nlohmann::json& results) {
   const Case& c = sim.case_();
-  const auto& P = sim.particles();
+  const std::size_t particles = sim.case_particles();
   nlohmann::json j;
   j["talus_version"] = version;
   j["case"] = c.file;
   j["title"] = c.title;
   j["dimension"] = D;
-  j["particles"] = P.size();
+  j["particles"] = particles;
   j["nodes"] = sim.grid().num_nodes();
   nlohmann::json bodies = nlohmann::json::object();
-  for (int b = 0; b < P.num_bodies(); ++b)
-    bodies[c.bodies[b].name] = {{"particles", P.body_begin[b + 1] - P.body_begin[b]},
+  for (int b = 0; b < sim.num_bodies(); ++b)
+    bodies[c.bodies[b].name] = {{"particles", sim.body_particles(b)},
                                 {"material", c.materials[c.bodies[b].material].name}};
   j["bodies"] = bodies;
   j["steps"] = sim.steps();
@@ -255,13 +246,33 @@ void RunWriter<D>::write_summary(const Simulation<D>& sim, const std::string& st
   j["stepping_seconds"] = stepping_seconds;
   j["particle_updates_per_second"] =
       stepping_seconds > 0
-          ? static_cast<double>(P.size()) * static_cast<double>(sim.steps()) / stepping_seconds
+          ? static_cast<double>(particles) * static_cast<double>(sim.steps()) / stepping_seconds
           : 0.0;
   j["threads"] = threads;
   j["status"] = status;
   if (!message.empty()) j["message"] = message;
   j["results"] = results;
   write_file_atomic(dir_ + "/summary.json", j.dump(2) + "\n");
+}
+
+void prepare_run_inputs(const Case& c, const std::string& dir, bool overwrite) {
+  std::vector<std::string> inputs;
+  for (const InputFile& f : c.inputs) {
+    std::ifstream in(f.source, std::ios::binary);
+    if (!in) throw OutputError(fmt::format("{}: cannot read the case's input file", f.source));
+    inputs.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  prepare_run_folder(dir, overwrite);
+  if (!c.inputs.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+      throw OutputError(fmt::format("{}: cannot create the run folder: {}", dir, ec.message()));
+    std::filesystem::create_directories(dir + "/inputs", ec);
+    if (ec) throw OutputError(fmt::format("{}/inputs: cannot create: {}", dir, ec.message()));
+  }
+  for (std::size_t i = 0; i < c.inputs.size(); ++i)
+    write_file_atomic(dir + "/" + c.inputs[i].copy, inputs[i]);
 }
 
 template class RunWriter<2>;

@@ -2,6 +2,7 @@
 // series. Every file is rewritten atomically, so a reader (or a crash) never sees half a file.
 #pragma once
 
+#include "talus/output/frame_totals.hpp"
 #include "talus/solver.hpp"
 
 #include <nlohmann/json.hpp>
@@ -10,16 +11,22 @@
 
 namespace talus {
 
+// The run folder `dir` made ready for a fresh run (prepare_run_folder), with the case's input
+// files copied into its inputs/, read before the folder is emptied (the case may be an earlier
+// run's own case.toml, run again into its folder with --overwrite).
+void prepare_run_inputs(const Case& c, const std::string& dir, bool overwrite);
+
 template <int D>
 class RunWriter {
 public:
   // A writer that writes nothing: reads a checkpoint's tables on a process that does not write.
   RunWriter() = default;
-  RunWriter(std::string dir, const Simulation<D>& sim);
+  // The run folder `dir` of sim's case; probes.csv follows the particles of `probe_ids`.
+  RunWriter(std::string dir, const Simulation<D>& sim, std::vector<std::uint32_t> probe_ids);
 
   // Appends a row to the CSVs and, if enabled, writes particles_NNNNNN.vtu and particles.pvd,
   // and contact_nodes_NNNNNN.vtu and contact_nodes.pvd (the last step's nodal contact forces).
-  void write_frame(const Simulation<D>& sim);
+  void write_frame(const Simulation<D>& sim, const FrameTotals<D>& totals);
   // summary.json with the run's status ("completed", "failed", "interrupted").
   void write_summary(const Simulation<D>& sim, const std::string& status, double wall_seconds,
                      double stepping_seconds, int threads, const std::string& message,
@@ -39,6 +46,8 @@ public:
   const std::string& dir() const { return dir_; }
 
 private:
+  void write_rows(const Simulation<D>& sim, const FrameTotals<D>& totals); // a row in each CSV
+
   std::string dir_;
   std::vector<std::uint32_t> probe_ids_;
   std::string energy_, bodies_, probes_, contacts_, interfaces_;

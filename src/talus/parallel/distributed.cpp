@@ -100,7 +100,7 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::vector<std::
   sim_.set_exchange(this);
   fields_stand_ = false;
   build_share();
-  set_energy_baseline();
+  sim_.set_energy_baseline();
 }
 
 template <int D>

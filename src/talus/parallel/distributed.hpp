@@ -43,7 +43,8 @@ public:
   // One step on every process (collective). A step that fails on any process throws its
   // SimulationError, named with the process, on every process; any other error stops them all.
   void step(double dt_limit = inf);
-  // The end of settling (Simulation::release), with the elastic energy at release of the whole.
+  // The end of settling (Simulation::release, collective: the elastic energy at release is
+  // summed over every process's own particles).
   void release();
   // Calls f(sim) on rank 0 with the whole state in sim (one process's particle order, the
   // contact nodes of every process); the other processes wait. Collective.
@@ -77,12 +78,12 @@ public:
   bool owns_plane(std::int64_t i) const override;
   void plane_reach(std::int64_t& lo, std::int64_t& hi) const override;
   void sum_disjoint(double* data, std::size_t n) override;
+  void sum_exact(ExactSum* sums, std::size_t n) override;
   void chunk_sums(int b, std::size_t begin, std::size_t end, const double* value,
                   std::int64_t chunk, std::vector<double>& sums) override;
 
 private:
-  void init();                // what both constructors set first
-  void set_energy_baseline(); // a new case's, formed from every process's particles
+  void init(); // what both constructors set first
   // The column that decides ownership (decomposition.hpp).
   std::int64_t owner_column(const Vec<D>& x) const;
   // The column of the particle's cell, for the ghosts' reach.

@@ -43,6 +43,22 @@ void Distributed<D>::sum_disjoint(double* data, std::size_t n) {
   MPI_Allreduce(MPI_IN_PLACE, data, static_cast<int>(n), MPI_DOUBLE, MPI_SUM, comm_);
 }
 
+// Each sum's words added as integers (exact_sum.hpp): normalized, they cannot overflow.
+template <int D>
+void Distributed<D>::sum_exact(ExactSum* sums, std::size_t n) {
+  std::vector<std::int64_t> words(n * ExactSum::words);
+  for (std::size_t i = 0; i < n; ++i) {
+    sums[i].normalize();
+    std::copy_n(sums[i].data(), ExactSum::words, words.data() + i * ExactSum::words);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, words.data(), static_cast<int>(words.size()), MPI_INT64_T, MPI_SUM,
+                comm_);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::copy_n(words.data() + i * ExactSum::words, ExactSum::words, sums[i].data());
+    sums[i].normalize();
+  }
+}
+
 // A chunk whose particles are all here is summed here; one split between processes has each
 // particle's value sent to its place in the chunk, and every process sums it in index order.
 template <int D>

@@ -1,5 +1,4 @@
-// Distributed<D>'s whole state on rank 0 (with_whole_state, for output, checkpoints and the
-// release) and the energy baseline formed across processes.
+// Distributed<D>'s whole state on rank 0 (with_whole_state, for checkpoints) and the release.
 #include "talus/parallel/arrays.hpp"
 #include "talus/parallel/distributed.hpp"
 
@@ -34,49 +33,9 @@ void gather_in_pieces(MPI_Comm comm, const std::vector<char>& mine,
   }
 }
 
-// The energy budget's baseline, each body's elastic energy summed in id order as one process
-// sums it (Simulation::strain_energy): every process sends its own particles' terms with their
-// ids, rank 0 places them by id, sums each body's range and sends the sums to every process.
-template <int D>
-void Distributed<D>::set_energy_baseline() {
-  const Particles<D>& S = sim_.particles();
-  struct Term {
-    std::uint32_t id;
-    double energy;
-  };
-  std::vector<char> mine;
-  for (std::size_t k = 0; k < S.size(); ++k)
-    if (share_own_[k]) {
-      const Term t{S.id[k], sim_.strain_energy_of(k)};
-      const std::size_t at = mine.size();
-      mine.resize(at + sizeof t);
-      std::memcpy(mine.data() + at, &t, sizeof t);
-    }
-  std::vector<double> by_id(rank_ == 0 ? body_begin_.back() : 0, 0.0);
-  gather_in_pieces(comm_, mine, [&](const std::vector<char>& terms) {
-    for (std::size_t at = 0; at < terms.size(); at += sizeof(Term)) {
-      Term t;
-      std::memcpy(&t, terms.data() + at, sizeof t);
-      by_id[t.id] = t.energy;
-    }
-  });
-  const std::size_t B = body_begin_.size() - 1;
-  std::vector<double> baseline(B, 0.0);
-  if (rank_ == 0) {
-    for (std::size_t b = 0; b < B; ++b)
-      if (!sim_.setup().bodies[b].rigid)
-        for (std::size_t i = body_begin_[b]; i < body_begin_[b + 1]; ++i)
-          baseline[b] += by_id[i];
-  }
-  MPI_Bcast(baseline.data(), static_cast<int>(B), MPI_DOUBLE, 0, comm_);
-  sim_.set_energy_baseline(std::move(baseline));
-}
-
 template <int D>
 void Distributed<D>::release() {
-  sim_.release();
-  // The elastic energy at release is a sum over every particle: rank 0 forms it from the whole.
-  with_whole_state([](Simulation<D>& sim) { sim.release(); });
+  sim_.release(); // the baseline: every process's own particles' elastic energy, summed exactly
 }
 
 template <int D>

@@ -5,6 +5,8 @@
 // of processes: a min or max, or a sum in which each entry has exactly one contributor.
 #pragma once
 
+#include "talus/exact_sum.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -28,6 +30,8 @@ public:
   // data[i] <- the sum over the processes, where at most one process holds a nonzero entry i
   // (so the sum is that entry, exactly).
   virtual void sum_disjoint(double* data, std::size_t n) = 0;
+  // sums[i] <- the sum over the processes of every process's sums[i]: exact, so in any order.
+  virtual void sum_exact(ExactSum* sums, std::size_t n) = 0;
   // The sums of `value` (one per local particle of body b, local indices [begin, end)) over
   // chunks of `chunk` consecutive global indices of the body, each summed in index order from 0:
   // the same chunk sums one process forms. Only this process's own particles count.

@@ -64,6 +64,7 @@ SharedSeeding<D> seed_share(const Case& c, MPI_Comm comm, SlabStart start) {
     require_particles(c, b, n);
     out.body_begin.push_back(out.body_begin.back() + n);
     s.body_mass.push_back(mass);
+    s.body_count.push_back(n);
   }
   s.total = out.body_begin.back();
   std::vector<std::int64_t> slab_counts = counts;
