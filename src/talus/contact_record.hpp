@@ -28,6 +28,35 @@ struct ContactNodeForce {
   double frictional = 0, cohesive = 0; // tangential resistance used (N)
 };
 
+// Contact nodes as 3 D + 4 doubles each (for checkpoints: no padding bytes), and back (whole
+// nodes: v.size() a multiple of 3 D + 4).
+template <int D>
+std::vector<double> flatten(const std::vector<ContactNodeForce<D>>& nodes) {
+  std::vector<double> v;
+  for (const ContactNodeForce<D>& n : nodes) {
+    v.insert(v.end(), n.position.data(), n.position.data() + D);
+    v.push_back(n.body), v.push_back(n.other);
+    v.insert(v.end(), n.force.data(), n.force.data() + D);
+    v.insert(v.end(), n.normal.data(), n.normal.data() + D);
+    v.push_back(n.frictional), v.push_back(n.cohesive);
+  }
+  return v;
+}
+template <int D>
+std::vector<ContactNodeForce<D>> unflatten(const std::vector<double>& v) {
+  constexpr std::size_t size = 3 * D + 4;
+  std::vector<ContactNodeForce<D>> nodes(v.size() / size);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const double* a = v.data() + i * size;
+    ContactNodeForce<D>& n = nodes[i];
+    for (int d = 0; d < D; ++d)
+      n.position[d] = a[d], n.force[d] = a[D + 2 + d], n.normal[d] = a[2 * D + 2 + d];
+    n.body = static_cast<int>(a[D]), n.other = static_cast<int>(a[D + 1]);
+    n.frictional = a[3 * D + 2], n.cohesive = a[3 * D + 3];
+  }
+  return nodes;
+}
+
 template <int D>
 struct ContactRecord {
   int B = 0;                                     // bodies
@@ -134,6 +163,10 @@ struct ContactRecord {
       interface_impulse[f].normal += dt * interface_force[f].normal;
     }
     impulse_time += dt;
+  }
+  // A restored state's contact nodes (a checkpoint's), until the next step records its own.
+  void restore_nodes(std::vector<ContactNodeForce<D>> nodes) {
+    node_rows_.assign(1, std::move(nodes));
   }
   // The last recorded step's contact nodes, in node order.
   std::vector<ContactNodeForce<D>> nodes() const {

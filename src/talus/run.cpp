@@ -305,9 +305,29 @@ private:
   }
 
   // A row in every CSV (forces as time means since the previous row) and a frame.
+  // Nothing needs the whole state: the sums are combined, the particles stream to rank 0.
   void write_frame() {
     const FrameTotals<D> totals = frame_totals(sim_, monitor_->probe_ids());
-    whole([&](Simulation<D>& s) { writer_->write_frame(s, totals); });
+    std::vector<ContactNodeForce<D>> nodes;
+    LocalOrder local(sim_.particles().size());
+    ParticleOrder* order = &local;
+#ifdef TALUS_MPI
+    if (dist_)
+      order = dist_.get(), nodes = dist_->gather_contact_nodes();
+    else
+#endif
+      nodes = sim_.contact_nodes();
+    std::string error; // rank 0's, reported once every process has sent its particles
+    if (c_.output.particles) try {
+        RunWriter<D>::write_particles(root_ ? writer_->next_particle_frame() : std::string(), sim_,
+                                      *order);
+      } catch (const OutputError& e) {
+        error = e.what();
+      }
+    on_root([&] {
+      if (!error.empty()) throw OutputError(error);
+      writer_->write_frame(sim_, totals, nodes);
+    });
     sim_.reset_force_means();
     write_running_summary(&totals);
   }

@@ -75,6 +75,9 @@ public:
   }
   // Every process's contact nodes, gathered for output on several processes (nullopt: this
   // process's own, as on one).
+  // Drops a restored state's contact nodes (on the processes of a run that are not rank 0,
+  // which alone keeps them for the first frame).
+  void drop_contact_nodes() { record_.restore_nodes({}); }
   void set_gathered_contact_nodes(std::optional<std::vector<ContactNodeForce<D>>> nodes) {
     gathered_nodes_ = std::move(nodes);
   }
@@ -167,6 +170,14 @@ public:
     ar.io(index_of_id_), ar.io(record_.force_), ar.io(record_.interface_force);
     ar.io(record_.impulse_), ar.io(record_.interface_impulse), ar.io(record_.impulse_time);
     ar.io(record_.work), ar.io(internal_work_), ar.io(strain_energy0_), ar.io(pore_state_);
+    // The last step's contact nodes, for a frame written before the next step (the release
+    // after a restart from the checkpoint at the end of settling).
+    std::vector<double> nodes;
+    if constexpr (!Ar::loading) nodes = flatten(contact_nodes());
+    ar.io(nodes);
+    if (nodes.size() % (3 * D + 4) != 0)
+      throw CheckpointError(source + ": corrupt checkpoint (contact nodes)");
+    if constexpr (Ar::loading) record_.restore_nodes(unflatten<D>(nodes));
     drop_held_fields(); // rescattered from the restored particles: the same sums
   }
 

@@ -2,7 +2,8 @@
 """`mpirun -np N talus run`: the run folder of the coarse three-body Vaiont (contact, cohesive
 interfaces that degrade with slip and cross the slab cuts, settling, probes, frames) on 2, 3
 and 4 processes x 1 and 2 threads is byte for byte the one-process run's: every CSV, every VTU
-frame, the ParaView series, and the results in summary.json. Then: a run stopped on 2 processes
+frame (particles, streamed to rank 0, and contact nodes), the ParaView series, and the results
+in summary.json. Then: a run stopped on 2 processes
 (--max-steps) and restarted on 3 ends identical; a process killed with SIGKILL stops the others
 and leaves its newest checkpoint readable, and a one-process restart from it ends identical; a
 grid too narrow for the processes is refused with a message naming its columns.
@@ -21,7 +22,8 @@ from pathlib import Path
 serial, talus, mpiexec, source, work = sys.argv[1:4] + [Path(sys.argv[4]), Path(sys.argv[5])]
 case = source / "cases/vaiont/three_bodies.toml"
 settings = ["grid.cell_size=16", "initial_state.settle_time=1.0", "simulation.end_time=2.0",
-            "output.every=0.5", "output.particles=true", "checkpoint.every=0.5",
+            "output.every=0.5", "output.particles=true", "output.contact_nodes=true",
+            "checkpoint.every=0.5",
             "checkpoint.wall_minutes=0"]
 failures = []
 env = dict(os.environ, OMP_WAIT_POLICY="passive", OMPI_ALLOW_RUN_AS_ROOT="1",

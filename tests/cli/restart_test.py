@@ -21,9 +21,11 @@ from pathlib import Path
 talus, source, work = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
 case = source / "cases/vaiont/three_bodies.toml"
 # Coarse Vaiont (16 m cells): three bodies, plasticity, cohesive interfaces that degrade,
-# a settling phase, probes; checkpoints every 0.5 s of simulated time, output every 0.25 s.
+# a settling phase, probes; checkpoints every 0.5 s of simulated time, output every 0.25 s with
+# the contact nodes (restored from a checkpoint for a frame written before the next step).
 settings = ["grid.cell_size=16", "initial_state.settle_time=1.5", "simulation.end_time=2.5",
-            "output.every=0.25", "checkpoint.every=0.5", "checkpoint.wall_minutes=0"]
+            "output.every=0.25", "output.contact_nodes=true", "checkpoint.every=0.5",
+            "checkpoint.wall_minutes=0"]
 failures = []
 
 

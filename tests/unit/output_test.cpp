@@ -4,6 +4,7 @@
 #include "talus/output/vtu.hpp"
 #include "test_support.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
@@ -55,6 +56,64 @@ TEST(Vtu, DeclaresOnePointAndOneVertexPerParticle) {
   const std::string only = particles_to_vtu<2>(P, {0}, VtuFields{{"velocity"}});
   EXPECT_EQ(only.find("Name=\"stress\""), std::string::npos);
   EXPECT_NE(only.find("Name=\"velocity\""), std::string::npos);
+}
+
+// An order that hands the writer one particle at a time, in reverse slices of the buffer, as a
+// gather across processes may cut it anywhere.
+class OneByOne final : public ParticleOrder {
+public:
+  explicit OneByOne(std::size_t n) : n_(n) {}
+  std::size_t total() const override { return n_; }
+  bool receives() const override { return true; }
+  void gather(std::size_t width, const Fill& fill, const Take& take) override {
+    std::vector<char> one(width);
+    for (std::size_t p = 0; p < n_; ++p) {
+      fill(p, one.data());
+      take(one.data(), 1);
+    }
+  }
+
+private:
+  std::size_t n_;
+};
+
+// A frame streamed to its file in pieces is the frame built whole in memory, byte for byte, with
+// arrays of several compressed blocks (1 MiB each); nothing is left beside it.
+TEST(Vtu, AFrameStreamedInPiecesIsTheFrameBuiltWhole) {
+  Particles<3> P;
+  const std::size_t n = 120000; // 2.9 MB of positions: three blocks
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = 0.001 * static_cast<double>(i);
+    P.push_back(Vec<3>(x, std::sin(x), std::cos(3 * x)), Vec<3>(std::cos(x), 0.0, x), 2.0, 0.01);
+    P.stress.back()[3] = x;
+  }
+  P.body_begin.push_back(n / 2);
+  P.body_begin.push_back(n);
+  const std::vector<ScalarField> extra = {
+      {"pore_pressure", [](std::size_t p) { return 0.5 * static_cast<double>(p); }}};
+  const std::string whole = particles_to_vtu<3>(P, {1, 0}, VtuFields{}, extra);
+  const std::string dir = test::temp_dir("vtu_stream");
+  OneByOne order(n);
+  write_particles_vtu<3>(dir + "/f.vtu", P, {1, 0}, VtuFields{}, extra, order);
+  std::ifstream in(dir + "/f.vtu", std::ios::binary);
+  const std::string streamed((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(streamed.size(), whole.size());
+  EXPECT_TRUE(streamed == whole);
+  EXPECT_NE(whole.find("Name=\"pore_pressure\""), std::string::npos);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
+}
+
+TEST(Vtu, AFrameThatCannotBeWrittenIsAClearError) {
+  Particles<2> P;
+  P.push_back(Vec<2>(0.5, 1.0), Vec<2>(1.0, 0.0), 2.0, 0.01);
+  P.body_begin.push_back(1);
+  LocalOrder order(1);
+  try {
+    write_particles_vtu<2>("/nonexistent_dir/f.vtu", P, {0}, VtuFields{}, {}, order);
+    FAIL();
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent_dir/f.vtu"), std::string::npos);
+  }
 }
 
 TEST(Pvd, ListsTheFramesInOrder) {

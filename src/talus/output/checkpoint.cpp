@@ -10,7 +10,7 @@ namespace talus {
 namespace {
 
 constexpr char magic[8] = {'T', 'A', 'L', 'U', 'S', 'C', 'K', 'P'};
-constexpr std::uint32_t format_version = 4; // 4: Particles::band and the band pool
+constexpr std::uint32_t format_version = 5; // 5: the last step's contact nodes
 
 std::uint64_t fnv1a(std::string_view s) {
   std::uint64_t h = 14695981039346656037ull;

@@ -26,6 +26,24 @@ public:
 // and --overwrite never empties a folder that talus did not make.
 void prepare_run_folder(const std::string& dir, bool overwrite);
 
+// A file written in pieces that replaces `path` only at commit(): until then its content is in
+// path + ".tmp", which the destructor removes if commit() was not reached. Errors throw
+// OutputError naming the file and the reason.
+class AtomicFile {
+public:
+  explicit AtomicFile(std::string path);
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  ~AtomicFile();
+  void write(std::string_view content);
+  void commit(); // flushes to disk, renames into place, makes the rename durable
+
+private:
+  [[noreturn]] void fail(const std::string& what); // removes the temporary, throws
+  std::string path_, tmp_;
+  int fd_ = -1;
+};
+
 // Replaces `path` with `content` atomically. Throws OutputError naming the file and the reason.
 void write_file_atomic(const std::string& path, std::string_view content);
 // The same with the parts written one after another (no copy of them joined).

@@ -171,38 +171,40 @@ void RunWriter<D>::write_rows(const Simulation<D>& sim, const FrameTotals<D>& to
 }
 
 template <int D>
-void RunWriter<D>::write_frame(const Simulation<D>& sim, const FrameTotals<D>& totals) {
+std::string RunWriter<D>::next_particle_frame() const {
+  return dir_ + "/" + fmt::format("particles_{:06d}.vtu", frames_.size());
+}
+
+template <int D>
+void RunWriter<D>::write_particles(const std::string& path, const Simulation<D>& sim,
+                                   ParticleOrder& order) {
+  const Case& c = sim.case_();
+  std::vector<int> mats;
+  for (const BodySpec& b : c.bodies)
+    mats.push_back(b.material);
+  // With water: each particle's pore pressure; with bands: their temperature (NaN elsewhere).
+  std::vector<ScalarField> extra;
+  if (sim.setup().water.on || sim.setup().pore_pressure)
+    extra.emplace_back("pore_pressure", [&](std::size_t p) { return sim.pore_pressure(p); });
+  if (sim.setup().heating)
+    extra.emplace_back("band_temperature", [&](std::size_t p) { return sim.band_temperature(p); });
+  write_particles_vtu<D>(
+      path, sim.particles(), mats,
+      VtuFields{c.output.fields, c.output.float64_fields, c.output.float32_positions}, extra,
+      order);
+}
+
+template <int D>
+void RunWriter<D>::write_frame(const Simulation<D>& sim, const FrameTotals<D>& totals,
+                               const std::vector<ContactNodeForce<D>>& contact_nodes) {
   write_rows(sim, totals);
-  const auto& P = sim.particles();
   const Case& c = sim.case_();
   const double t = sim.time();
-  if (c.output.particles) {
-    const std::string name = fmt::format("particles_{:06d}.vtu", frames_.size());
-    std::vector<int> mats;
-    for (const BodySpec& b : c.bodies)
-      mats.push_back(b.material);
-    // With water: each particle's pore pressure; with bands: their temperature (NaN elsewhere).
-    std::vector<ScalarField> extra;
-    if (sim.setup().water.on || sim.setup().pore_pressure) {
-      extra.push_back({"pore_pressure", std::vector<double>(P.size())});
-      for (std::size_t p = 0; p < P.size(); ++p)
-        extra.back().second[p] = sim.pore_pressure(p);
-    }
-    if (sim.setup().heating) {
-      extra.push_back({"band_temperature", std::vector<double>(P.size())});
-      for (std::size_t p = 0; p < P.size(); ++p)
-        extra.back().second[p] = sim.band_temperature(p);
-    }
-    write_file_atomic(dir_ + "/" + name,
-                      particles_to_vtu<D>(P, mats,
-                                          VtuFields{c.output.fields, c.output.float64_fields,
-                                                    c.output.float32_positions},
-                                          extra));
-    frames_.emplace_back(t, name);
-  }
+  if (c.output.particles)
+    frames_.emplace_back(t, fmt::format("particles_{:06d}.vtu", frames_.size()));
   if (c.output.contact_nodes) {
     const std::string name = fmt::format("contact_nodes_{:06d}.vtu", contact_frames_.size());
-    write_file_atomic(dir_ + "/" + name, contact_nodes_to_vtu<D>(sim.contact_nodes()));
+    write_file_atomic(dir_ + "/" + name, contact_nodes_to_vtu<D>(contact_nodes));
     contact_frames_.emplace_back(t, name);
   }
   write_tables(sim);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "talus/output/frame_totals.hpp"
+#include "talus/output/vtu.hpp"
 #include "talus/solver.hpp"
 
 #include <nlohmann/json.hpp>
@@ -24,9 +25,16 @@ public:
   // The run folder `dir` of sim's case; probes.csv follows the particles of `probe_ids`.
   RunWriter(std::string dir, const Simulation<D>& sim, std::vector<std::uint32_t> probe_ids);
 
-  // Appends a row to the CSVs and, if enabled, writes particles_NNNNNN.vtu and particles.pvd,
-  // and contact_nodes_NNNNNN.vtu and contact_nodes.pvd (the last step's nodal contact forces).
-  void write_frame(const Simulation<D>& sim, const FrameTotals<D>& totals);
+  // A frame's particles (output.particles), particles_NNNNNN.vtu, are written first, by all
+  // processes together: write_particles() to next_particle_frame() (an empty path on the
+  // processes that do not write). Then write_frame() appends a row to the CSVs, lists the frame
+  // in particles.pvd and, if enabled, writes contact_nodes_NNNNNN.vtu and contact_nodes.pvd
+  // (the last step's nodal contact forces: `contact_nodes`, every process's).
+  std::string next_particle_frame() const;
+  static void write_particles(const std::string& path, const Simulation<D>& sim,
+                              ParticleOrder& order);
+  void write_frame(const Simulation<D>& sim, const FrameTotals<D>& totals,
+                   const std::vector<ContactNodeForce<D>>& contact_nodes);
   // summary.json with the run's status ("completed", "failed", "interrupted").
   void write_summary(const Simulation<D>& sim, const std::string& status, double wall_seconds,
                      double stepping_seconds, int threads, const std::string& message,

@@ -1,10 +1,15 @@
 #include "talus/output/vtu.hpp"
 
+#include "talus/output/files.hpp"
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdint>
 #include <cstring>
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <stdexcept>
+#include <unistd.h>
 #include <zlib.h>
 
 namespace talus {
@@ -15,153 +20,300 @@ bool VtuFields::wants(const std::string& f) const {
 
 namespace {
 
+// The appended block: in memory, or in a scratch file beside the frame (unlinked as soon as it
+// is open, so that nothing is left behind) for a frame written chunk by chunk. A scratch file's
+// first error is kept, and reported once the arrays are written.
+class Appended {
+public:
+  Appended() = default;
+  explicit Appended(const std::string& scratch) : to_file_(true) {
+    fd_ = ::open(scratch.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    if (fd_ < 0)
+      error_ = fmt::format("cannot write {}: {}", scratch, std::strerror(errno));
+    else
+      ::unlink(scratch.c_str());
+  }
+  Appended(const Appended&) = delete;
+  Appended& operator=(const Appended&) = delete;
+  ~Appended() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  std::size_t size() const { return size_; }
+  const std::string& memory() const { return mem_; }
+  const std::string& error() const { return error_; }
+  void write(const void* data, std::size_t n) {
+    write_at(size_, data, n);
+    size_ += n;
+  }
+  void write_at(std::size_t at, const void* data, std::size_t n) {
+    if (!to_file_) {
+      if (mem_.size() < at + n) mem_.resize(at + n);
+      std::memcpy(mem_.data() + at, data, n);
+      return;
+    }
+    for (std::size_t done = 0; done < n && error_.empty();) {
+      const ssize_t w = ::pwrite(fd_, static_cast<const char*>(data) + done, n - done,
+                                 static_cast<off_t>(at + done));
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0)
+        error_ = fmt::format("write failed: {}", std::strerror(w < 0 ? errno : ENOSPC));
+      else
+        done += static_cast<std::size_t>(w);
+    }
+  }
+  void copy_to(AtomicFile& out) const {
+    std::string buf(std::size_t{8} << 20, '\0');
+    for (std::size_t at = 0; at < size_;) {
+      const ssize_t r =
+          ::pread(fd_, buf.data(), std::min(buf.size(), size_ - at), static_cast<off_t>(at));
+      if (r < 0 && errno == EINTR) continue;
+      if (r <= 0)
+        throw OutputError(fmt::format("reading the frame's scratch file: {}",
+                                      std::strerror(r < 0 ? errno : EIO)));
+      out.write(std::string_view(buf.data(), static_cast<std::size_t>(r)));
+      at += static_cast<std::size_t>(r);
+    }
+  }
+
+private:
+  bool to_file_ = false;
+  std::string mem_, error_;
+  int fd_ = -1;
+  std::size_t size_ = 0;
+};
+
 // A VTK XML UnstructuredGrid of vertices built in two parts: the XML, where each DataArray gives
 // its offset into the appended block, and the appended block of raw binary arrays, each
 // compressed as VTK's vtkZLibDataCompressor reads it: a UInt64 header (number of blocks, block
-// size, size of the last block, then each block's compressed size) followed by the blocks.
+// size, size of the last block, then each block's compressed size) followed by the blocks. An
+// array's bytes may arrive in pieces (begin, append..., end).
 class VtuBuilder {
 public:
-  VtuBuilder(std::size_t n, const std::vector<double>& xyz, bool float32_positions) : n_(n) {
+  VtuBuilder(std::size_t n, Appended& out) : out_(out) {
     xml_ = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
            "byte_order=\"LittleEndian\" header_type=\"UInt64\" "
            "compressor=\"vtkZLibDataCompressor\">\n  <UnstructuredGrid>\n";
     xml_ += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
     xml_ += "      <Points>\n";
-    if (float32_positions)
-      array("Float32", "position", 3, std::vector<float>(xyz.begin(), xyz.end()));
-    else
-      array("Float64", "position", 3, xyz);
-    xml_ += "      </Points>\n      <Cells>\n";
-    std::vector<std::int64_t> conn(n), offsets(n);
-    std::vector<std::uint8_t> types(n, 1); // VTK_VERTEX
-    for (std::size_t p = 0; p < n; ++p)
-      conn[p] = static_cast<std::int64_t>(p), offsets[p] = static_cast<std::int64_t>(p + 1);
-    array("Int64", "connectivity", 1, conn);
-    array("Int64", "offsets", 1, offsets);
-    array("UInt8", "types", 1, types);
-    xml_ += "      </Cells>\n      <PointData>\n";
   }
 
-  template <class T>
-  void array(const char* type, const std::string& name, int components,
-             const std::vector<T>& values) {
+  void xml(const char* text) { xml_ += text; }
+
+  void begin(const char* type, const std::string& name, int components, std::size_t bytes) {
     xml_ += fmt::format("        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" "
                         "format=\"appended\" offset=\"{}\"/>\n",
-                        type, name, components, appended_.size());
-    compress(values.data(), values.size() * sizeof(T));
-  }
-  // Doubles as Float32 (fields) or Float64.
-  void reals(const std::string& name, int components, const std::vector<double>& values,
-             bool float64) {
-    if (float64)
-      array("Float64", name, components, values);
-    else
-      array("Float32", name, components, std::vector<float>(values.begin(), values.end()));
-  }
-
-  std::string finish() {
-    xml_ += "      </PointData>\n    </Piece>\n  </UnstructuredGrid>\n"
-            "  <AppendedData encoding=\"raw\">\n   _";
-    xml_ += appended_;
-    xml_ += "\n  </AppendedData>\n</VTKFile>\n";
-    return std::move(xml_);
-  }
-
-private:
-  static constexpr std::size_t block = 1 << 20; // uncompressed bytes per block
-  void compress(const void* data, std::size_t bytes) {
+                        type, name, components, out_.size());
     const std::size_t blocks = (bytes + block - 1) / block;
-    std::vector<std::uint64_t> header = {blocks, block, blocks ? bytes - (blocks - 1) * block : 0};
-    std::string body;
-    for (std::size_t k = 0; k < blocks; ++k) {
-      const std::size_t size = std::min(block, bytes - k * block);
-      uLongf out = compressBound(size);
-      std::string z(out, '\0');
-      if (compress2(reinterpret_cast<Bytef*>(z.data()), &out,
-                    static_cast<const Bytef*>(data) + k * block, size, Z_BEST_SPEED) != Z_OK)
-        throw std::runtime_error("zlib: compress2 failed");
-      z.resize(out);
-      header.push_back(out);
-      body += z;
+    header_ = {blocks, block, blocks ? bytes - (blocks - 1) * block : 0};
+    header_at_ = out_.size();
+    const std::vector<std::uint64_t> room(3 + blocks, 0); // the header, written at end()
+    out_.write(room.data(), room.size() * sizeof(std::uint64_t));
+    body_ = 0;
+    stage_.clear();
+  }
+  void append(const void* data, std::size_t bytes) {
+    const char* c = static_cast<const char*>(data);
+    while (bytes > 0) {
+      const std::size_t take = std::min(bytes, block - stage_.size());
+      stage_.insert(stage_.end(), c, c + take);
+      c += take, bytes -= take;
+      if (stage_.size() == block) flush();
     }
+  }
+  void end() {
+    if (!stage_.empty()) flush();
     // Zero bytes after the last block's zlib stream (readers stop at the stream's end) make
     // every array's offset but the first 1 mod 4: meshio 5 looks arrays up by offset while it
     // rewrites the offsets to multiples of 4, and an offset equal to a rewritten one made it
     // read the wrong array.
-    const std::size_t size = header.size() * sizeof(std::uint64_t) + body.size();
-    const std::size_t want = appended_.empty() ? 1 : 0; // this array's size mod 4
-    if (blocks > 0) {
+    const std::size_t size = header_.size() * sizeof(std::uint64_t) + body_;
+    const std::size_t want = header_at_ == 0 ? 1 : 0; // this array's size mod 4
+    if (header_[0] > 0) {
       const std::size_t pad = (want + 4 - size % 4) % 4;
-      body.append(pad, '\0');
-      header.back() += pad;
+      const char zeros[4] = {};
+      out_.write(zeros, pad);
+      header_.back() += pad;
     }
-    appended_.append(reinterpret_cast<const char*>(header.data()),
-                     header.size() * sizeof(std::uint64_t));
-    appended_ += body;
+    out_.write_at(header_at_, header_.data(), header_.size() * sizeof(std::uint64_t));
   }
-  std::size_t n_;
-  std::string xml_, appended_;
+  template <class T>
+  void array(const char* type, const std::string& name, int components,
+             const std::vector<T>& values) {
+    begin(type, name, components, values.size() * sizeof(T));
+    append(values.data(), values.size() * sizeof(T));
+    end();
+  }
+
+  std::string head() const {
+    return xml_ + "      </PointData>\n    </Piece>\n  </UnstructuredGrid>\n"
+                  "  <AppendedData encoding=\"raw\">\n   _";
+  }
+  static constexpr const char* tail = "\n  </AppendedData>\n</VTKFile>\n";
+
+private:
+  static constexpr std::size_t block = 1 << 20; // uncompressed bytes per block
+  void flush() {
+    uLongf size = compressBound(stage_.size());
+    z_.resize(size);
+    if (compress2(reinterpret_cast<Bytef*>(z_.data()), &size,
+                  reinterpret_cast<const Bytef*>(stage_.data()), stage_.size(),
+                  Z_BEST_SPEED) != Z_OK)
+      throw std::runtime_error("zlib: compress2 failed");
+    out_.write(z_.data(), size);
+    header_.push_back(size);
+    body_ += size;
+    stage_.clear();
+  }
+  Appended& out_;
+  std::string xml_;
+  std::vector<std::uint64_t> header_;
+  std::size_t header_at_ = 0, body_ = 0;
+  std::vector<char> stage_, z_;
 };
+
+// The particle arrays, each gathered in `order`'s order (out: where order.receives()).
+template <int D>
+void particle_arrays(VtuBuilder* out, const Particles<D>& P, const std::vector<int>& body_material,
+                     const VtuFields& fields, const std::vector<ScalarField>& extra,
+                     ParticleOrder& order) {
+  const std::size_t n = order.total();
+  auto column = [&](const char* type, const std::string& name, int components, std::size_t width,
+                    const ParticleOrder::Fill& fill) {
+    if (out) out->begin(type, name, components, width * n);
+    order.gather(width, fill,
+                 [&](const char* data, std::size_t count) { out->append(data, count * width); });
+    if (out) out->end();
+  };
+  // Doubles per particle as Float64 or, rounded, as Float32.
+  auto reals = [&](const std::string& name, int components, bool f64, auto value) {
+    if (f64)
+      column("Float64", name, components, 8 * components, [&](std::size_t p, char* o) {
+        for (int k = 0; k < components; ++k) {
+          const double v = value(p, k);
+          std::memcpy(o + 8 * k, &v, 8);
+        }
+      });
+    else
+      column("Float32", name, components, 4 * components, [&](std::size_t p, char* o) {
+        for (int k = 0; k < components; ++k) {
+          const float v = static_cast<float>(value(p, k));
+          std::memcpy(o + 4 * k, &v, 4);
+        }
+      });
+  };
+  auto ints = [&](const char* type, const std::string& name, auto value) {
+    column(type, name, 1, 4, [&](std::size_t p, char* o) {
+      const auto v = value(p);
+      static_assert(sizeof v == 4);
+      std::memcpy(o, &v, 4);
+    });
+  };
+  // A vector in three components (zero out of plane).
+  auto vec3 = [](auto get) {
+    return [get](std::size_t p, int k) { return k < D ? get(p)[k] : 0.0; };
+  };
+  reals("position", 3, !fields.float32_positions, vec3([&](std::size_t p) { return P.x[p]; }));
+  // Vertices numbered in order: the cells need no gathering.
+  if (out) {
+    out->xml("      </Points>\n      <Cells>\n");
+    std::vector<std::int64_t> v;
+    for (const char* name : {"connectivity", "offsets"}) {
+      out->begin("Int64", name, 1, 8 * n);
+      const std::int64_t shift = name[0] == 'o';
+      for (std::size_t at = 0; at < n; at += v.size()) {
+        v.resize(std::min<std::size_t>(n - at, std::size_t{1} << 19));
+        for (std::size_t k = 0; k < v.size(); ++k)
+          v[k] = static_cast<std::int64_t>(at + k) + shift;
+        out->append(v.data(), 8 * v.size());
+      }
+      out->end();
+    }
+    out->begin("UInt8", "types", 1, n);
+    const std::vector<std::uint8_t> vertex(std::size_t{1} << 20, 1); // VTK_VERTEX
+    for (std::size_t at = 0; at < n; at += vertex.size())
+      out->append(vertex.data(), std::min(vertex.size(), n - at));
+    out->end();
+    out->xml("      </Cells>\n      <PointData>\n");
+  }
+  const bool f64 = fields.float64_fields;
+  ints("Int32", "body", [&](std::size_t p) { return std::int32_t{P.body_of(p)}; });
+  if (fields.wants("material"))
+    ints("Int32", "material",
+         [&](std::size_t p) { return std::int32_t{body_material[P.body_of(p)]}; });
+  ints("UInt32", "id", [&](std::size_t p) { return P.id[p]; });
+  if (fields.wants("velocity"))
+    reals("velocity", 3, f64, vec3([&](std::size_t p) { return P.v[p]; }));
+  if (fields.wants("displacement"))
+    reals("displacement", 3, f64, vec3([&](std::size_t p) { return Vec<D>(P.x[p] - P.x0[p]); }));
+  // VTK's symmetric tensor order: xx, yy, zz, xy, yz, xz (ours).
+  if (fields.wants("stress"))
+    reals("stress", 6, f64, [&](std::size_t p, int k) { return P.stress[p][k]; });
+  auto scalar = [](const auto& a) { return [&a](std::size_t p, int) { return double(a[p]); }; };
+  if (fields.wants("mass")) reals("mass", 1, f64, scalar(P.m));
+  if (fields.wants("volume")) reals("volume", 1, f64, scalar(P.vol));
+  if (fields.wants("plastic_strain")) reals("plastic_strain", 1, f64, scalar(P.eps_p));
+  if (fields.wants("field")) ints("Int32", "field", [&](std::size_t p) { return P.field[p]; });
+  if (fields.wants("interface")) {
+    ints("Int32", "interface", [&](std::size_t p) { return P.iface[p]; });
+    reals("interface_slip", 1, f64, scalar(P.slip));
+    reals("interface_cohesion", 1, f64, scalar(P.cohesion));
+    reals("interface_friction", 1, f64, scalar(P.friction));
+  }
+  for (const auto& [name, value] : extra)
+    if (fields.wants(name)) reals(name, 1, f64, [&](std::size_t p, int) { return value(p); });
+}
 
 } // namespace
 
 template <int D>
 std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body_material,
                              const VtuFields& fields, const std::vector<ScalarField>& extra) {
-  const std::size_t n = P.size();
-  auto vec3 = [&](auto get) {
-    std::vector<double> a(3 * n, 0.0);
-    for (std::size_t p = 0; p < n; ++p)
-      for (int d = 0; d < D; ++d)
-        a[3 * p + d] = get(p)[d];
-    return a;
-  };
-  VtuBuilder out(n, vec3([&](std::size_t p) { return P.x[p]; }), fields.float32_positions);
-  const bool f64 = fields.float64_fields;
-  std::vector<std::int32_t> body(n), material(n);
-  for (int b = 0; b < P.num_bodies(); ++b)
-    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
-      body[p] = b, material[p] = body_material[b];
-  out.array("Int32", "body", 1, body);
-  if (fields.wants("material")) out.array("Int32", "material", 1, material);
-  out.array("UInt32", "id", 1, P.id);
-  if (fields.wants("velocity"))
-    out.reals("velocity", 3, vec3([&](std::size_t p) { return P.v[p]; }), f64);
-  if (fields.wants("displacement"))
-    out.reals("displacement", 3, vec3([&](std::size_t p) { return Vec<D>(P.x[p] - P.x0[p]); }),
-              f64);
-  if (fields.wants("stress")) {
-    // VTK's symmetric tensor order: xx, yy, zz, xy, yz, xz (ours).
-    std::vector<double> s(6 * n);
-    for (std::size_t p = 0; p < n; ++p)
-      for (int k = 0; k < 6; ++k)
-        s[6 * p + k] = P.stress[p][k];
-    out.reals("stress", 6, s, f64);
+  Appended data;
+  VtuBuilder out(P.size(), data);
+  LocalOrder order(P.size());
+  particle_arrays<D>(&out, P, body_material, fields, extra, order);
+  return out.head() + data.memory() + VtuBuilder::tail;
+}
+
+template <int D>
+void write_particles_vtu(const std::string& path, const Particles<D>& P,
+                         const std::vector<int>& body_material, const VtuFields& fields,
+                         const std::vector<ScalarField>& extra, ParticleOrder& order) {
+  if (!order.receives()) {
+    particle_arrays<D>(nullptr, P, body_material, fields, extra, order);
+    return;
   }
-  if (fields.wants("mass")) out.reals("mass", 1, P.m, f64);
-  if (fields.wants("volume")) out.reals("volume", 1, P.vol, f64);
-  if (fields.wants("plastic_strain")) out.reals("plastic_strain", 1, P.eps_p, f64);
-  if (fields.wants("field")) out.array("Int32", "field", 1, P.field);
-  if (fields.wants("interface")) {
-    out.array("Int32", "interface", 1, P.iface);
-    out.reals("interface_slip", 1, P.slip, f64);
-    out.reals("interface_cohesion", 1, P.cohesion, f64);
-    out.reals("interface_friction", 1, P.friction, f64);
-  }
-  for (const auto& [name, values] : extra)
-    if (fields.wants(name)) out.reals(name, 1, values, f64);
-  return out.finish();
+  Appended data(path + ".body.tmp");
+  VtuBuilder out(order.total(), data);
+  particle_arrays<D>(&out, P, body_material, fields, extra, order);
+  if (!data.error().empty()) throw OutputError(path + ": " + data.error());
+  AtomicFile file(path);
+  file.write(out.head());
+  data.copy_to(file);
+  file.write(VtuBuilder::tail);
+  file.commit();
 }
 
 std::string vertices_to_vtu(const std::vector<double>& xyz, const std::vector<VtuArray>& arrays) {
-  VtuBuilder out(xyz.size() / 3, xyz, false);
+  const std::size_t n = xyz.size() / 3;
+  Appended data;
+  VtuBuilder out(n, data);
+  out.array("Float64", "position", 3, xyz);
+  out.xml("      </Points>\n      <Cells>\n");
+  std::vector<std::int64_t> conn(n), offsets(n);
+  for (std::size_t p = 0; p < n; ++p)
+    conn[p] = static_cast<std::int64_t>(p), offsets[p] = static_cast<std::int64_t>(p + 1);
+  out.array("Int64", "connectivity", 1, conn);
+  out.array("Int64", "offsets", 1, offsets);
+  out.array("UInt8", "types", 1, std::vector<std::uint8_t>(n, 1)); // VTK_VERTEX
+  out.xml("      </Cells>\n      <PointData>\n");
   for (const VtuArray& a : arrays) {
     if (!a.f64.empty())
       out.array("Float64", a.name, a.components, a.f64);
     else
       out.array("Int32", a.name, a.components, a.i32);
   }
-  return out.finish();
+  return out.head() + data.memory() + VtuBuilder::tail;
 }
 
 std::string pvd_collection(const std::vector<std::pair<double, std::string>>& frames) {
@@ -173,9 +325,14 @@ std::string pvd_collection(const std::vector<std::pair<double, std::string>>& fr
   return out;
 }
 
-template std::string particles_to_vtu<2>(const Particles<2>&, const std::vector<int>&,
-                                         const VtuFields&, const std::vector<ScalarField>&);
-template std::string particles_to_vtu<3>(const Particles<3>&, const std::vector<int>&,
-                                         const VtuFields&, const std::vector<ScalarField>&);
+#define TALUS_INSTANTIATE(D)                                                                       \
+  template std::string particles_to_vtu<D>(const Particles<D>&, const std::vector<int>&,           \
+                                           const VtuFields&, const std::vector<ScalarField>&);     \
+  template void write_particles_vtu<D>(const std::string&, const Particles<D>&,                    \
+                                       const std::vector<int>&, const VtuFields&,                  \
+                                       const std::vector<ScalarField>&, ParticleOrder&);
+TALUS_INSTANTIATE(2)
+TALUS_INSTANTIATE(3)
+#undef TALUS_INSTANTIATE
 
 } // namespace talus

@@ -3,9 +3,11 @@
 // (.pvd). The writer reads the state; the solver knows no format.
 #pragma once
 
+#include "talus/output/particle_order.hpp"
 #include "talus/particles.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,12 +22,23 @@ struct VtuFields {
   bool wants(const std::string& f) const;
 };
 
-// A per-particle scalar the simulation derives (pore pressure, band temperature), by name.
-using ScalarField = std::pair<std::string, std::vector<double>>;
+// A per-particle scalar the simulation derives (pore pressure, band temperature): its name and
+// its value at particle p.
+using ScalarField = std::pair<std::string, std::function<double(std::size_t)>>;
 
+// The frame of P's particles in memory (one process).
 template <int D>
 std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body_material,
                              const VtuFields& fields, const std::vector<ScalarField>& extra = {});
+
+// The frame written to `path` chunk by chunk, the particles in `order`'s order, with no more
+// than a few blocks of it in memory: collective, P being this process's particles (on several
+// processes, with ghosts that order's fill skips). Where order.receives(), the file is written
+// atomically; a failure there throws OutputError after every process has taken part.
+template <int D>
+void write_particles_vtu(const std::string& path, const Particles<D>& P,
+                         const std::vector<int>& body_material, const VtuFields& fields,
+                         const std::vector<ScalarField>& extra, ParticleOrder& order);
 
 // Any point set as VTU vertices: positions (x, y, z per point) and named point arrays, each
 // Float64 (f64, if not empty) or Int32 (i32), `components` values per point.

@@ -74,6 +74,8 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t reba
   });
   own_index_ = mine;
   own_.body_begin = body_begin_of(own_index_);
+  // A restored state's contact nodes: rank 0's to gather, once.
+  if (rank_ != 0) sim_.drop_contact_nodes();
   sim_.set_exchange(this);
   fields_stand_ = false;
   build_share();

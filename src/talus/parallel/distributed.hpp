@@ -12,6 +12,7 @@
 // sums have one contributor per entry.
 #pragma once
 
+#include "talus/output/particle_order.hpp"
 #include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/exchange.hpp"
 #include "talus/solver.hpp"
@@ -24,7 +25,7 @@
 namespace talus {
 
 template <int D>
-class Distributed final : public Exchange {
+class Distributed final : public Exchange, public ParticleOrder {
 public:
   using Start = SlabStart;
   // `sim` holds the whole state (a new case's, or a checkpoint's): this process keeps its slab.
@@ -54,6 +55,15 @@ public:
     if (rank_ == 0) f(sim_);
     restore_share();
   }
+
+  // Every process's contact nodes (Simulation::contact_nodes) on rank 0, in node-plane order;
+  // none elsewhere. Collective.
+  std::vector<ContactNodeForce<D>> gather_contact_nodes();
+
+  // ParticleOrder (output/particle_order.hpp): the own particles' values, to rank 0.
+  std::size_t total() const override { return body_begin_.back(); }
+  bool receives() const override { return rank_ == 0; }
+  void gather(std::size_t width, const Fill& fill, const Take& take) override;
 
   int rank() const { return rank_; }
   int size() const { return size_; }

@@ -2,7 +2,9 @@
 #include "talus/parallel/arrays.hpp"
 #include "talus/parallel/distributed.hpp"
 
+#include <algorithm>
 #include <cstring>
+#include <stdexcept>
 
 namespace talus {
 
@@ -39,14 +41,71 @@ void Distributed<D>::release() {
 }
 
 template <int D>
+std::vector<ContactNodeForce<D>> Distributed<D>::gather_contact_nodes() {
+  const std::vector<ContactNodeForce<D>> nodes = sim_.contact_nodes(); // rows this process owns
+  std::vector<char> node_buf(nodes.size() * sizeof(ContactNodeForce<D>));
+  std::memcpy(node_buf.data(), static_cast<const void*>(nodes.data()), node_buf.size());
+  std::vector<char> all_nodes;
+  gather_in_pieces(comm_, node_buf, [&](const std::vector<char>& rows) {
+    all_nodes.insert(all_nodes.end(), rows.begin(), rows.end());
+  });
+  // Every process's own rows, in process order, which is node-plane order.
+  std::vector<ContactNodeForce<D>> every(all_nodes.size() / sizeof(ContactNodeForce<D>));
+  std::memcpy(static_cast<void*>(every.data()), all_nodes.data(), all_nodes.size());
+  return every;
+}
+
+// Per chunk of global indices, rank 0 receives every process's records (the index's offset in
+// the chunk, then its bytes) and places them: the chunk's values in one process's order.
+template <int D>
+void Distributed<D>::gather(std::size_t width, const Fill& fill, const Take& take) {
+  const std::size_t n = body_begin_.back();
+  const std::size_t chunk = std::max<std::size_t>(1, (std::size_t{64} << 20) / (width + 4));
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> rows; // (global index, share row)
+  for (std::size_t k = 0; k < share_own_.size(); ++k)
+    if (share_own_[k]) rows.emplace_back(share_index_[k], static_cast<std::uint32_t>(k));
+  std::sort(rows.begin(), rows.end());
+  std::vector<char> mine, all, placed(rank_ == 0 ? chunk * width : 0);
+  std::vector<int> counts(size_), at(size_);
+  std::size_t next = 0;
+  for (std::size_t g0 = 0; g0 < n; g0 += chunk) {
+    const std::size_t g1 = std::min(n, g0 + chunk);
+    mine.clear();
+    for (; next < rows.size() && rows[next].first < g1; ++next) {
+      const auto offset = static_cast<std::uint32_t>(rows[next].first - g0);
+      const std::size_t pos = mine.size();
+      mine.resize(pos + 4 + width);
+      std::memcpy(mine.data() + pos, &offset, 4);
+      fill(rows[next].second, mine.data() + pos + 4);
+    }
+    const int bytes = static_cast<int>(mine.size());
+    MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);
+    if (rank_ == 0) {
+      for (int q = 0, sum = 0; q < size_; ++q)
+        at[q] = sum, sum += counts[q];
+      all.resize(static_cast<std::size_t>(at[size_ - 1] + counts[size_ - 1]));
+    }
+    MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), at.data(), MPI_BYTE, 0,
+                comm_);
+    if (rank_ != 0) continue;
+    if (all.size() != (g1 - g0) * (4 + width))
+      abort_run(std::logic_error("gathering a frame: a particle is owned by no process or two"));
+    for (std::size_t pos = 0; pos < all.size(); pos += 4 + width) {
+      std::uint32_t offset = 0;
+      std::memcpy(&offset, all.data() + pos, 4);
+      std::memcpy(placed.data() + std::size_t{offset} * width, all.data() + pos + 4, width);
+    }
+    take(placed.data(), g1 - g0);
+  }
+}
+
+template <int D>
 void Distributed<D>::gather_to_root() {
+  std::vector<ContactNodeForce<D>> nodes = gather_contact_nodes();
   std::vector<char> buf;
   Particles<D> share = sim_.take_particles();
   for (std::size_t k = 0; k < share_own_.size(); ++k)
     if (share_own_[k]) pack(share, k, share_index_[k], buf);
-  const std::vector<ContactNodeForce<D>> nodes = sim_.contact_nodes(); // rows this process owns
-  std::vector<char> node_buf(nodes.size() * sizeof(ContactNodeForce<D>));
-  std::memcpy(node_buf.data(), static_cast<const void*>(nodes.data()), node_buf.size());
   // Rank 0 writes each process's records into their slots of the whole state as they arrive.
   Particles<D> staged;
   if (rank_ == 0) staged.for_each_array([&](auto& a) { a.resize(body_begin_.back()); });
@@ -54,21 +113,14 @@ void Distributed<D>::gather_to_root() {
     for (std::size_t pos = 0; pos < records.size();)
       pos = unpack_in_place(records, pos, staged);
   });
-  std::vector<char> all_nodes;
-  gather_in_pieces(comm_, node_buf, [&](const std::vector<char>& rows) {
-    all_nodes.insert(all_nodes.end(), rows.begin(), rows.end());
-  });
   if (rank_ != 0) {
     sim_.replace_particles(std::move(share), true);
     return;
   }
   staged.body_begin = body_begin_;
-  // Contact nodes: every process's own rows, in process order, which is node-plane order.
-  std::vector<ContactNodeForce<D>> every(all_nodes.size() / sizeof(ContactNodeForce<D>));
-  std::memcpy(static_cast<void*>(every.data()), all_nodes.data(), all_nodes.size());
   parked_share_ = std::move(share);
   sim_.replace_particles(std::move(staged), true);
-  sim_.set_gathered_contact_nodes(std::move(every));
+  sim_.set_gathered_contact_nodes(std::move(nodes));
 }
 
 template <int D>

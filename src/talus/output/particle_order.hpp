@@ -1,0 +1,49 @@
+// Per-particle values gathered in one process's particle order, for output that must not need
+// the whole state in one place (vtu.hpp's frames).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+namespace talus {
+
+// Per-particle values in one process's particle order, chunk by chunk: on one process the
+// particles as they stand (LocalOrder); on several, each process's own particles gathered to
+// rank 0 in that order (Distributed).
+class ParticleOrder {
+public:
+  using Fill = std::function<void(std::size_t p, char* out)>; // particle p's `width` bytes
+  using Take = std::function<void(const char* data, std::size_t count)>;
+  virtual ~ParticleOrder() = default;
+  virtual std::size_t total() const = 0; // the whole case's particles
+  virtual bool receives() const = 0;     // whether take() is called on this process
+  // Collective: fill() for each of this process's own particles; take() where receives(), with
+  // the values of consecutive runs of particles, all of them in order.
+  virtual void gather(std::size_t width, const Fill& fill, const Take& take) = 0;
+};
+
+// One process: particles [0, n) in their order.
+class LocalOrder final : public ParticleOrder {
+public:
+  explicit LocalOrder(std::size_t n) : n_(n) {}
+  std::size_t total() const override { return n_; }
+  bool receives() const override { return true; }
+  void gather(std::size_t width, const Fill& fill, const Take& take) override {
+    const std::size_t chunk =
+        std::max<std::size_t>(1, (std::size_t{4} << 20) / std::max<std::size_t>(width, 1));
+    std::vector<char> buf(chunk * width);
+    for (std::size_t at = 0; at < n_; at += chunk) {
+      const std::size_t count = std::min(chunk, n_ - at);
+      for (std::size_t k = 0; k < count; ++k)
+        fill(at + k, buf.data() + k * width);
+      take(buf.data(), count);
+    }
+  }
+
+private:
+  std::size_t n_;
+};
+
+} // namespace talus
