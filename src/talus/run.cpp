@@ -173,29 +173,6 @@ private:
     if (failed) throw OutputError(error);
   }
 
-  // Calls f(sim) on rank 0 with the whole state: on one process, sim_ itself; on several, the
-  // state gathered (Distributed::with_whole_state). Collective.
-  template <class F>
-  void whole(F&& f) {
-#ifdef TALUS_MPI
-    if (dist_) { // f runs on rank 0 alone: its error is agreed on once the others rejoin
-      std::optional<OutputError> failure;
-      dist_->with_whole_state([&](Simulation<D>& s) {
-        try {
-          f(s);
-        } catch (const OutputError& e) {
-          failure.emplace(e);
-        }
-      });
-      on_root([&] {
-        if (failure) throw *failure;
-      });
-      return;
-    }
-#endif
-    on_root([&] { f(sim_); });
-  }
-
   // A new case on several processes is seeded on each process's slab alone (seed_share.hpp);
   // otherwise the whole case is, whose state a checkpoint then replaces.
   Simulation<D> start(bool restoring) {
@@ -480,36 +457,64 @@ private:
     return ck.every > 0 ? ck.every * (std::floor(sim_.time() / ck.every + 1e-9) + 1.0) : inf;
   }
 
-  // The whole state, written by rank 0: a checkpoint restarts on any number of processes.
+  // The whole state, written by rank 0 as it comes (on several processes the particles are
+  // gathered chunk by chunk: SaveArchive::set_order), sized by a first pass that only counts. A
+  // checkpoint restarts on any number of processes; no process holds the whole state.
   void save_checkpoint() {
     const auto t0 = Clock::now();
     const std::string path = checkpoint_path(opt_.out_dir, sim_.steps());
-    double bytes = 0.0;
-    whole([&](Simulation<D>& s) {
-      s.check_particles(); // a checkpoint is a good state, or none is written
-      auto save = [&](SaveArchive& ar) {
-        int dim = D;
-        std::string file = std::filesystem::absolute(c_.file).string(), text = c_.text;
-        ar.io(dim), ar.io(file), ar.io(text);
-        serialize(ar);
-      };
-      SaveArchive sizing(SaveArchive::Mode::count), ar; // sized first: one allocation
-      save(sizing);
-      ar.reserve(sizing.size());
+    auto save = [&](SaveArchive& ar) {
+#ifdef TALUS_MPI
+      if (dist_) ar.set_order(dist_.get(), dist_->body_begin());
+#endif
+      int dim = D;
+      std::string file = std::filesystem::absolute(c_.file).string(), text = c_.text;
+      ar.io(dim), ar.io(file), ar.io(text);
+      serialize(ar);
+    };
+    std::size_t bytes = 0;
+    std::string error; // rank 0's, reported once every process has sent its particles
+    auto write = [&] {
+      std::optional<CheckpointFile> file;
+      if (root_) {
+        SaveArchive sizing(SaveArchive::Mode::count);
+        save(sizing);
+        bytes = sizing.size();
+        std::error_code ec;
+        std::filesystem::create_directories(opt_.out_dir + "/checkpoints", ec);
+        if (ec)
+          error = fmt::format("{}/checkpoints: cannot create: {}", opt_.out_dir, ec.message());
+        file.emplace(path, bytes);
+      }
+      SaveArchive ar(root_ ? SaveArchive::Mode::save : SaveArchive::Mode::send);
+      if (file) ar.set_sink([&](const char* data, std::size_t n) { file->write(data, n); });
       save(ar);
-      std::error_code ec;
-      std::filesystem::create_directories(opt_.out_dir + "/checkpoints", ec);
-      if (ec)
-        throw OutputError(
-            fmt::format("{}/checkpoints: cannot create: {}", opt_.out_dir, ec.message()));
-      write_checkpoint_file(path, ar.bytes());
-      prune_checkpoints(opt_.out_dir, c_.checkpoint.keep);
-      bytes = static_cast<double>(ar.bytes().size());
+      if (root_ && error.empty()) try {
+          file->finish();
+          prune_checkpoints(opt_.out_dir, c_.checkpoint.keep);
+        } catch (const OutputError& e) {
+          error = e.what();
+        }
+    };
+    // A checkpoint is a good state, or none is written.
+#ifdef TALUS_MPI
+    if (dist_) {
+      dist_->check_particles();
+      dist_->with_whole_tables(write);
+    } else
+#endif
+    {
+      sim_.check_particles();
+      write();
+    }
+    on_root([&] {
+      if (!error.empty()) throw OutputError(error);
     });
     last_checkpoint_ = path;
     ++checkpoints_written_;
     if (opt_.log && !::isatty(STDOUT_FILENO)) // a terminal's progress line is redrawn: no line
-      *opt_.log << fmt::format("talus: checkpoint {} ({:.1f} MB, {:.2f} s)\n", path, bytes / 1e6,
+      *opt_.log << fmt::format("talus: checkpoint {} ({:.1f} MB, {:.2f} s)\n", path,
+                               static_cast<double>(bytes) / 1e6,
                                std::chrono::duration<double>(Clock::now() - t0).count());
   }
 

@@ -160,14 +160,26 @@ public:
   // simulation continues bitwise as the saved one would have. The rest is rebuilt from the case.
   template <class Ar>
   void serialize(Ar& ar, const std::string& source) {
-    io_expect(ar, particles_.body_begin, "bodies and particle counts", source);
-    particles_.for_each_array([&](auto& a) {
-      ar.io(a);
-      if (a.size() != particles_.size())
-        throw CheckpointError(source + ": corrupt checkpoint (particle array length)");
-    });
+    if constexpr (Ar::loading) {
+      io_expect(ar, particles_.body_begin, "bodies and particle counts", source);
+      particles_.for_each_array([&](auto& a) {
+        ar.io(a);
+        if (a.size() != particles_.size())
+          throw CheckpointError(source + ": corrupt checkpoint (particle array length)");
+      });
+      // The map from id to index, from the ids (each once, within the case's).
+      std::fill(index_of_id_.begin(), index_of_id_.end(), std::uint32_t(-1));
+      for (std::size_t p = 0; p < particles_.size(); ++p) {
+        const std::uint32_t id = particles_.id[p];
+        if (id >= index_of_id_.size() || index_of_id_[id] != std::uint32_t(-1))
+          throw CheckpointError(source + ": corrupt checkpoint (particle ids)");
+        index_of_id_[id] = static_cast<std::uint32_t>(p);
+      }
+    } else {
+      ar.particles(particles_); // on several processes, the whole state's, gathered
+    }
     ar.io(time_), ar.io(dt_), ar.io(dt_reference_), ar.io(steps_), ar.io(settling_);
-    ar.io(index_of_id_), ar.io(record_.force_), ar.io(record_.interface_force);
+    ar.io(record_.force_), ar.io(record_.interface_force);
     ar.io(record_.impulse_), ar.io(record_.interface_impulse), ar.io(record_.impulse_time);
     ar.io(record_.work), ar.io(internal_work_), ar.io(strain_energy0_), ar.io(pore_state_);
     // The last step's contact nodes, for a frame written before the next step (the release

@@ -10,10 +10,10 @@ namespace talus {
 namespace {
 
 constexpr char magic[8] = {'T', 'A', 'L', 'U', 'S', 'C', 'K', 'P'};
-constexpr std::uint32_t format_version = 5; // 5: the last step's contact nodes
+constexpr std::uint32_t format_version = 5; // 5: the contact nodes, no id-to-index map
 
-std::uint64_t fnv1a(std::string_view s) {
-  std::uint64_t h = 14695981039346656037ull;
+constexpr std::uint64_t fnv_basis = 14695981039346656037ull;
+std::uint64_t fnv1a(std::string_view s, std::uint64_t h = fnv_basis) {
   for (const char c : s)
     h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
   return h;
@@ -42,14 +42,45 @@ void LoadArchive::raw(void* p, std::size_t n) {
   pos_ += n;
 }
 
-// Header, payload and checksum go to the file as three parts: the payload is never copied (a
-// checkpoint is the size of the whole state).
+CheckpointFile::CheckpointFile(const std::string& path, std::uint64_t payload_size)
+    : path_(path), size_(payload_size), sum_(fnv_basis) {
+  try {
+    file_.emplace(path);
+    std::string head(magic, sizeof magic);
+    append(head, format_version);
+    append(head, payload_size);
+    file_->write(head);
+  } catch (const OutputError& e) {
+    error_ = e.what();
+  }
+}
+
+void CheckpointFile::write(const char* data, std::size_t n) {
+  written_ += n;
+  if (!error_.empty()) return;
+  try {
+    sum_ = fnv1a(std::string_view(data, n), sum_);
+    file_->write(std::string_view(data, n));
+  } catch (const OutputError& e) {
+    error_ = e.what();
+  }
+}
+
+void CheckpointFile::finish() {
+  if (!error_.empty()) throw OutputError(error_);
+  if (written_ != size_)
+    throw OutputError(fmt::format("{}: internal error: {} payload bytes written, {} counted", path_,
+                                  written_, size_));
+  std::string tail;
+  append(tail, sum_);
+  file_->write(tail);
+  file_->commit();
+}
+
 void write_checkpoint_file(const std::string& path, const std::string& payload) {
-  std::string head(magic, sizeof magic), tail;
-  append(head, format_version);
-  append(head, static_cast<std::uint64_t>(payload.size()));
-  append(tail, fnv1a(payload));
-  write_file_atomic(path, {head, payload, tail});
+  CheckpointFile file(path, payload.size());
+  file.write(payload.data(), payload.size());
+  file.finish();
 }
 
 // Reads the payload straight into its string (its size is in the header): one copy of the

@@ -8,10 +8,13 @@
 #pragma once
 
 #include "talus/output/files.hpp"
+#include "talus/output/particle_order.hpp"
+#include "talus/particles.hpp"
 
 #include <Eigen/Core>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -32,13 +35,20 @@ constexpr bool stored_raw = std::is_trivially_copyable_v<T>;
 template <class S, int R, int C, int O, int MR, int MC>
 constexpr bool stored_raw<Eigen::Matrix<S, R, C, O, MR, MC>> = (R > 0 && C > 0);
 
-// Writes values into a byte buffer; or, made with Mode::count, only counts their bytes (so that
-// the buffer can be reserved at once: growing it would copy the whole state).
+// Writes values into a byte buffer or, with a sink, hands them on as they come; made with
+// Mode::count, only counts their bytes (so that a buffer or a file's header can be sized first).
+// On several processes the particle arrays are the whole state's, gathered in one process's
+// order (set_order): rank 0 saves or counts, the others only send (Mode::send).
 class SaveArchive {
 public:
   static constexpr bool loading = false;
-  enum class Mode { save, count };
-  explicit SaveArchive(Mode mode = Mode::save) : counting_(mode == Mode::count) {}
+  enum class Mode { save, count, send };
+  using Sink = std::function<void(const char* data, std::size_t n)>;
+  explicit SaveArchive(Mode mode = Mode::save) : mode_(mode) {}
+  void set_sink(Sink sink) { sink_ = std::move(sink); }
+  void set_order(ParticleOrder* order, std::vector<std::size_t> body_begin) {
+    order_ = order, body_begin_ = std::move(body_begin);
+  }
 
   template <class T>
   requires stored_raw<T>
@@ -62,21 +72,50 @@ public:
   void io(std::pair<A, B>& p) {
     io(p.first), io(p.second);
   }
+  // The body ranges, then every particle array (LoadArchive reads them with io()).
+  template <int D>
+  void particles(Particles<D>& P) {
+    if (!order_) {
+      io(P.body_begin);
+      P.for_each_array([&](auto& a) { io(a); });
+      return;
+    }
+    io(body_begin_);
+    P.for_each_array([&](auto& a) {
+      using T = typename std::decay_t<decltype(a)>::value_type;
+      std::uint64_t n = order_->total();
+      io(n);
+      if (mode_ == Mode::count) {
+        counted_ += n * sizeof(T);
+        return;
+      }
+      order_->gather(
+          sizeof(T), [&](std::size_t p, char* out) { std::memcpy(out, &a[p], sizeof(T)); },
+          [&](const char* data, std::size_t count) { raw(data, count * sizeof(T)); });
+    });
+  }
 
   std::string& bytes() { return buf_; }
-  std::size_t size() const { return counting_ ? counted_ : buf_.size(); }
+  std::size_t size() const { return mode_ == Mode::count ? counted_ : buf_.size(); }
   void reserve(std::size_t n) { buf_.reserve(n); }
 
 private:
   void raw(const void* p, std::size_t n) {
-    if (counting_)
+    if (mode_ == Mode::count)
       counted_ += n;
+    else if (mode_ == Mode::send)
+      return;
+    else if (sink_)
+      sink_(static_cast<const char*>(p), n);
     else
       buf_.append(static_cast<const char*>(p), n);
   }
   std::string buf_;
-  bool counting_ = false;
+  Mode mode_;
   std::size_t counted_ = 0;
+  Sink sink_;
+  ParticleOrder* order_ = nullptr;
+  std::vector<std::size_t> body_begin_; // the whole state's, with order_
 };
 
 // Reads values back; any read past the end throws CheckpointError.
@@ -125,7 +164,22 @@ void io_expect(Ar& ar, const T& current, const char* what, const std::string& so
     throw CheckpointError(source + ": the checkpoint's " + what + " differs from the case's");
 }
 
-// Writes `payload` as a checkpoint file (atomically: temporary, fsync, rename).
+// A checkpoint file written as its payload comes (atomically: temporary, fsync, rename), the
+// payload's size given first. A write error is kept until finish() throws it (OutputError), so
+// that a writer on rank 0 still takes part in the gathers that feed it.
+class CheckpointFile {
+public:
+  CheckpointFile(const std::string& path, std::uint64_t payload_size);
+  void write(const char* data, std::size_t n);
+  void finish(); // the checksum, then into place; throws the first error
+
+private:
+  std::optional<AtomicFile> file_;
+  std::string path_, error_;
+  std::uint64_t size_ = 0, written_ = 0, sum_;
+};
+
+// Writes `payload` as a checkpoint file.
 void write_checkpoint_file(const std::string& path, const std::string& payload);
 // Reads and verifies a checkpoint file; throws CheckpointError if it is not a complete one.
 std::string read_checkpoint_file(const std::string& path);

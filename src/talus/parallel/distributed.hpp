@@ -59,6 +59,19 @@ public:
   // Every process's contact nodes (Simulation::contact_nodes) on rank 0, in node-plane order;
   // none elsewhere. Collective.
   std::vector<ContactNodeForce<D>> gather_contact_nodes();
+  // Calls f() on every process while rank 0's sim holds, whole, the state a checkpoint saves
+  // besides the particles (every process's contact nodes, the pore pool's entries of every
+  // particle); the particles are gathered by the save itself (SaveArchive::set_order). Collective.
+  template <class F>
+  void with_whole_tables(F&& f) {
+    gather_tables();
+    f();
+    if (rank_ == 0) sim_.set_gathered_contact_nodes(std::nullopt);
+  }
+  // Simulation::check_particles on every process: the first process's failure, everywhere.
+  void check_particles();
+  // One process's body ranges of the global index (the whole state's).
+  const std::vector<std::size_t>& body_begin() const { return body_begin_; }
 
   // ParticleOrder (output/particle_order.hpp): the own particles' values, to rank 0.
   std::size_t total() const override { return body_begin_.back(); }
@@ -111,6 +124,7 @@ private:
   void set_ownership(const Particles<D>& share);
   void gather_to_root();
   void restore_share();
+  void gather_tables(); // with_whole_tables' gather
   // Appends particle p of P (global index g) to buf; unpack appends the record at buf[pos] to P.
   void pack(Particles<D>& P, std::size_t p, std::uint32_t g, std::vector<char>& buf);
   std::size_t unpack(const std::vector<char>& buf, std::size_t pos, Particles<D>& P,

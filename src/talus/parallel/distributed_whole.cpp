@@ -100,6 +100,44 @@ void Distributed<D>::gather(std::size_t width, const Fill& fill, const Take& tak
 }
 
 template <int D>
+void Distributed<D>::check_particles() {
+  std::string failure;
+  try {
+    sim_.check_particles();
+  } catch (const SimulationError& e) {
+    failure = e.what();
+  }
+  agree_on_failure(failure);
+}
+
+// Each process sends its own particles' pool entries (offset, then the entry), which rank 0
+// writes into its pool in place.
+template <int D>
+void Distributed<D>::gather_tables() {
+  std::vector<ContactNodeForce<D>> nodes = gather_contact_nodes();
+  const Particles<D>& S = sim_.particles();
+  std::vector<char> mine;
+  for (std::size_t k = 0; k < S.size(); ++k) {
+    const std::int64_t o = S.pore[k];
+    if (!share_own_[k] || o < 0) continue;
+    const std::size_t at = mine.size(), n = pool_size_[o] * sizeof(double);
+    mine.resize(at + sizeof o + n);
+    std::memcpy(mine.data() + at, &o, sizeof o);
+    std::memcpy(mine.data() + at + sizeof o, sim_.pore_state().data() + o, n);
+  }
+  gather_in_pieces(comm_, mine, [&](const std::vector<char>& entries) {
+    for (std::size_t at = 0; at < entries.size();) {
+      std::int64_t o = 0;
+      std::memcpy(&o, entries.data() + at, sizeof o);
+      const std::size_t n = pool_size_[o] * sizeof(double);
+      std::memcpy(sim_.pore_state_mut().data() + o, entries.data() + at + sizeof o, n);
+      at += sizeof o + n;
+    }
+  });
+  if (rank_ == 0) sim_.set_gathered_contact_nodes(std::move(nodes));
+}
+
+template <int D>
 void Distributed<D>::gather_to_root() {
   std::vector<ContactNodeForce<D>> nodes = gather_contact_nodes();
   std::vector<char> buf;
