@@ -29,9 +29,7 @@ namespace talus {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using results::figure_chunk;
 using results::ResultsMonitor;
-using results::StepFigures;
 
 volatile std::sig_atomic_t stop_signal = 0;
 extern "C" void on_stop_signal(int sig) {
@@ -207,80 +205,6 @@ private:
     return value;
   }
 
-  // The step's figures for the monitor (StepFigures), from this process's own particles and,
-  // on several processes, a max or a chunk sum over all of them: the same bits on any number.
-  StepFigures step_figures() {
-    const auto& P = sim_.particles();
-    const auto& ids = monitor_->probe_ids();
-    const std::size_t F = sim_.setup().interfaces.size();
-    StepFigures f;
-    f.probe_speed.assign(ids.size(), 0.0);
-    f.pore_peak.assign(F, -inf), f.temperature_peak.assign(F, -inf);
-    auto own = [&](std::size_t p) {
-#ifdef TALUS_MPI
-      if (dist_) return dist_->is_own(p);
-#endif
-      (void)p;
-      return true;
-    };
-    for (std::size_t k = 0; k < ids.size(); ++k)
-      if (const std::size_t p = sim_.index_of(ids[k]); p < P.size() && P.id[p] == ids[k] && own(p))
-        f.probe_speed[k] = P.v[p].norm();
-    for (std::size_t p = 0; p < P.size(); ++p) {
-      if (P.pore[p] < 0 || !own(p)) continue;
-      const int i = P.iface[p];
-      const InterfaceSpec& spec = sim_.setup().interfaces[i];
-      const double* s = &sim_.pore_state()[P.pore[p]];
-      f.pore_peak[i] = std::max(f.pore_peak[i], spec.pore_pressure + s[1]);
-      if (spec.thermal_pressurization)
-        f.temperature_peak[i] =
-            std::max(f.temperature_peak[i], spec.thermal_pressurization->temperature + s[0]);
-    }
-    if (const int b = monitor_->body(); b >= 0) {
-      const std::size_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-      mass_.resize(P.size()), mass_speed_.resize(P.size());
-      for (std::size_t p = begin; p < end; ++p)
-        mass_[p] = P.m[p], mass_speed_[p] = P.m[p] * P.v[p].norm();
-      f.mass = chunked_sum(b, begin, end, mass_),
-      f.mass_speed = chunked_sum(b, begin, end, mass_speed_);
-    }
-#ifdef TALUS_MPI
-    if (dist_) {
-      auto max_all = [](std::vector<double>& v) {
-        MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_MAX,
-                      MPI_COMM_WORLD);
-      };
-      max_all(f.probe_speed), max_all(f.pore_peak), max_all(f.temperature_peak);
-    }
-#endif
-    return f;
-  }
-
-  // The sum of value[begin, end) (body b), in chunks of figure_chunk particles in particle order
-  // and then the chunks in order.
-  double chunked_sum(int b, std::size_t begin, std::size_t end, const std::vector<double>& value) {
-    std::vector<double>& sums = chunk_sums_;
-#ifdef TALUS_MPI
-    if (dist_) {
-      dist_->chunk_sums(b, begin, end, value.data(), figure_chunk, sums);
-    } else
-#endif
-    {
-      (void)b;
-      sums.clear();
-      for (std::size_t c = begin; c < end; c += figure_chunk) {
-        double s = 0.0;
-        for (std::size_t p = c; p < std::min(end, c + figure_chunk); ++p)
-          s += value[p];
-        sums.push_back(s);
-      }
-    }
-    double total = 0.0;
-    for (const double s : sums)
-      total += s;
-    return total;
-  }
-
   // A row in every CSV (forces as time means since the previous row) and a frame.
   // Nothing needs the whole state: the sums are combined, the particles stream to rank 0.
   void write_frame() {
@@ -400,7 +324,7 @@ private:
     while (end - sim_.time() > 1e-12 * end) {
       const double next_output = std::min(end, every * static_cast<double>(frame_));
       timed_step(next_output - sim_.time());
-      monitor_->update(step_figures(), sim_.time(), c_.results.stop_speed);
+      monitor_->update(monitor_->figures(sim_), sim_.time(), c_.results.stop_speed);
       if (sim_.time() >= next_output - 1e-12 * end) {
         write_frame();
         ++frame_;
@@ -544,7 +468,6 @@ private:
 #ifdef TALUS_MPI
   std::unique_ptr<Distributed<D>> dist_; // on several processes: this one's slab
 #endif
-  std::vector<double> mass_, mass_speed_, chunk_sums_; // step_figures' scratch
   std::optional<RunWriter<D>> writer_;
   std::optional<ResultsMonitor<D>> monitor_;
   double settle_ke_ = 0.0;

@@ -31,8 +31,8 @@ public:
   std::size_t total() const override { return n_; }
   bool receives() const override { return true; }
   void gather(std::size_t width, const Fill& fill, const Take& take) override {
-    const std::size_t chunk =
-        std::max<std::size_t>(1, (std::size_t{4} << 20) / std::max<std::size_t>(width, 1));
+    const std::size_t chunk = std::clamp<std::size_t>(
+        (std::size_t{4} << 20) / std::max<std::size_t>(width, 1), 1, std::max<std::size_t>(n_, 1));
     std::vector<char> buf(chunk * width);
     for (std::size_t at = 0; at < n_; at += chunk) {
       const std::size_t count = std::min(chunk, n_ - at);

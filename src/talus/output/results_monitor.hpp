@@ -7,6 +7,7 @@
 #include "talus/output/frame_totals.hpp"
 #include "talus/solver.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <vector>
@@ -55,6 +56,44 @@ public:
 
   int body() const { return body_; }
   const std::vector<std::uint32_t>& probe_ids() const { return probe_ids_; }
+
+  // The step's figures (StepFigures), from this process's own particles and, on several
+  // processes, a max or a chunk sum over all of them: the same bits on any number. Collective.
+  StepFigures figures(const Simulation<D>& sim) {
+    const auto& P = sim.particles();
+    const std::size_t F = sim.setup().interfaces.size();
+    StepFigures f;
+    f.probe_speed.assign(probe_ids_.size(), 0.0);
+    f.pore_peak.assign(F, -inf), f.temperature_peak.assign(F, -inf);
+    for (std::size_t k = 0; k < probe_ids_.size(); ++k)
+      if (const std::size_t p = sim.index_of(probe_ids_[k]);
+          p < P.size() && P.id[p] == probe_ids_[k] && sim.is_own(p))
+        f.probe_speed[k] = P.v[p].norm();
+    for (std::size_t p = 0; p < P.size(); ++p) {
+      if (P.pore[p] < 0 || !sim.is_own(p)) continue;
+      const int i = P.iface[p];
+      const InterfaceSpec& spec = sim.setup().interfaces[i];
+      const double* s = &sim.pore_state()[P.pore[p]];
+      f.pore_peak[i] = std::max(f.pore_peak[i], spec.pore_pressure + s[1]);
+      if (spec.thermal_pressurization)
+        f.temperature_peak[i] =
+            std::max(f.temperature_peak[i], spec.thermal_pressurization->temperature + s[0]);
+    }
+    if (body_ >= 0) {
+      const std::size_t begin = P.body_begin[body_], end = P.body_begin[body_ + 1];
+      mass_.resize(P.size()), mass_speed_.resize(P.size());
+      for (std::size_t p = begin; p < end; ++p)
+        mass_[p] = P.m[p], mass_speed_[p] = P.m[p] * P.v[p].norm();
+      f.mass = chunked_sum(sim, begin, end, mass_);
+      f.mass_speed = chunked_sum(sim, begin, end, mass_speed_);
+    }
+    if (Exchange* ex = sim.exchange())
+      for (std::vector<double>* v : {&f.probe_speed, &f.pore_peak, &f.temperature_peak}) {
+        std::vector<double> lo(*v);
+        ex->min_max(lo.data(), v->data(), static_cast<int>(v->size()));
+      }
+    return f;
+  }
 
   void update(const StepFigures& f, double time, double stop_speed) {
     for (std::size_t k = 0; k < probe_ids_.size(); ++k)
@@ -117,6 +156,29 @@ public:
   }
 
 private:
+  // The sum of value[begin, end) (the results body's), in chunks of figure_chunk particles in
+  // particle order and then the chunks in order.
+  double chunked_sum(const Simulation<D>& sim, std::size_t begin, std::size_t end,
+                     const std::vector<double>& value) {
+    std::vector<double>& sums = chunk_sums_;
+    if (Exchange* ex = sim.exchange()) {
+      ex->chunk_sums(body_, begin, end, value.data(), figure_chunk, sums);
+    } else {
+      sums.clear();
+      for (std::size_t c = begin; c < end; c += figure_chunk) {
+        double s = 0.0;
+        for (std::size_t p = c; p < std::min<std::size_t>(end, c + figure_chunk); ++p)
+          s += value[p];
+        sums.push_back(s);
+      }
+    }
+    double total = 0.0;
+    for (const double s : sums)
+      total += s;
+    return total;
+  }
+
+  std::vector<double> mass_, mass_speed_, chunk_sums_; // figures()' scratch
   int body_;
   std::vector<std::uint32_t> probe_ids_;
   std::vector<double> probe_peak_;

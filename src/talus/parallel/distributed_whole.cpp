@@ -60,7 +60,8 @@ std::vector<ContactNodeForce<D>> Distributed<D>::gather_contact_nodes() {
 template <int D>
 void Distributed<D>::gather(std::size_t width, const Fill& fill, const Take& take) {
   const std::size_t n = body_begin_.back();
-  const std::size_t chunk = std::max<std::size_t>(1, (std::size_t{64} << 20) / (width + 4));
+  const std::size_t chunk = std::clamp<std::size_t>((std::size_t{64} << 20) / (width + 4), 1,
+                                                    std::max<std::size_t>(n, 1));
   std::vector<std::pair<std::uint32_t, std::uint32_t>> rows; // (global index, share row)
   for (std::size_t k = 0; k < share_own_.size(); ++k)
     if (share_own_[k]) rows.emplace_back(share_index_[k], static_cast<std::uint32_t>(k));
