@@ -175,6 +175,7 @@ struct MpiSession {
   MpiSession(int* argc, char*** argv) {
     int provided = 0;
     MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+    talus::processes_on_this_node(); // collective: here, where every process calls it
   }
   ~MpiSession() { MPI_Finalize(); }
   MpiSession(const MpiSession&) = delete;

@@ -1,5 +1,6 @@
 // Slab decomposition: bounds from per-column counts, exact and the same on every process.
 #include "talus/parallel/decomposition.hpp"
+#include "talus/parallel/processes.hpp"
 
 #include <gtest/gtest.h>
 #include <numeric>
@@ -79,6 +80,17 @@ TEST(SlabOwner, ColumnsMapToTheirSlab) {
   EXPECT_EQ(slab_owner(b, -1), 0);
   EXPECT_EQ(slab_owner(b, 10), 2);
   EXPECT_EQ(slab_owner({0, 10}, 5), 0);
+}
+
+// The parser's memory check on several processes: the part of the case on one machine.
+TEST(MemoryShare, OneMachineHoldsItsProcessesSlabsAndGhosts) {
+  EXPECT_EQ(memory_share(1, 1, 4000, 11), 1.0);
+  EXPECT_EQ(memory_share(4, 4, 4000, 11), 1.0); // every process on one machine: all of it
+  // 30 machines of one process, 4,000 columns: 1/30 + 22/4000.
+  EXPECT_DOUBLE_EQ(memory_share(30, 1, 4000, 11), 1.0 / 30 + 22.0 / 4000);
+  EXPECT_DOUBLE_EQ(memory_share(30, 2, 4000, 11), 2 * (1.0 / 30 + 22.0 / 4000));
+  EXPECT_DOUBLE_EQ(memory_share(8, 1, 40, 11), 1.0 / 8 + 22.0 / 40); // ghosts outweigh the slab
+  EXPECT_EQ(memory_share(8, 1, 20, 11), 1.0); // ghosts wider than the grid: the whole
 }
 
 } // namespace

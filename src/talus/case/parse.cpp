@@ -6,6 +6,8 @@
 #include "talus/case/run_entries.hpp"
 #include "talus/case/size.hpp"
 #include "talus/case/toml_reader.hpp"
+#include "talus/parallel/decomposition.hpp"
+#include "talus/parallel/processes.hpp"
 
 #include <toml++/toml.h>
 
@@ -187,7 +189,13 @@ void read_bodies(TableReader& root, Case& c, InputFiles& files) {
   const int dim = c.simulation.dimension;
   std::vector<std::string> body_names;
   const std::vector<std::string> material_names = names_of(c.materials);
-  double memory = grid_nodes(c.grid, dim) * bytes_per_grid_node;
+  // On several processes each holds its slab of the particles and fields, with its ghosts: the
+  // processes on this machine hold `share` of them; the grid is counted whole on each.
+  const int here = processes_on_this_node();
+  const double grid = grid_nodes(c.grid, dim) * bytes_per_grid_node * here;
+  const double share =
+      node_memory_share(c.grid.extent[0] / c.grid.cell_size, ghost_columns(max_normal_smoothing));
+  double memory = 0.0;
   for_each_entry(root, "body", [&](TableReader& r, std::size_t) {
     BodySpec b;
     b.name = r.name("name", "");
@@ -252,11 +260,17 @@ void read_bodies(TableReader& root, Case& c, InputFiles& files) {
                   bytes_per_particle(dim) +
               field_nodes(lo, hi, dim, c.grid.cell_size) *
                   bytes_per_field_node(dim, true, c.simulation.scheme == Scheme::musl, 1);
-    if (memory > machine_memory())
+    if (const double need = grid + share * memory; need > machine_memory())
       r.fail("particles_per_cell",
-             fmt::format("the case needs about {:.3g} GB up to this body, more than this "
-                         "machine's {:.3g} GB: use larger grid cells or fewer particles per cell",
-                         memory / 1e9, machine_memory() / 1e9));
+             fmt::format("the case needs about {:.3g} GB up to this body{}, more than this "
+                         "machine's {:.3g} GB: use larger grid cells or fewer particles per "
+                         "cell{}",
+                         need / 1e9,
+                         process_count() > 1 ? fmt::format(" on this machine's {} of {} processes",
+                                                           here, process_count())
+                                             : std::string(),
+                         machine_memory() / 1e9,
+                         process_count() > 1 ? ", or run on more machines" : ""));
     c.bodies.push_back(std::move(b));
     body_names.push_back(c.bodies.back().name);
   });

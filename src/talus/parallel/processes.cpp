@@ -29,6 +29,19 @@ int process_count() {
   return n;
 }
 
+int processes_on_this_node() {
+  static const int here = [] {
+    if (!mpi_on()) return 1;
+    MPI_Comm node;
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+    int n = 1;
+    MPI_Comm_size(node, &n);
+    MPI_Comm_free(&node);
+    return n;
+  }();
+  return here;
+}
+
 void on_rank_zero(const std::function<void()>& f) {
   if (process_count() == 1) return f();
   int kind = 0; // 1: RunFolderError, 2: OutputError
@@ -57,9 +70,16 @@ int process_rank() {
 int process_count() {
   return 1;
 }
+int processes_on_this_node() {
+  return 1;
+}
 void on_rank_zero(const std::function<void()>& f) {
   f();
 }
 #endif
+
+double node_memory_share(double columns, int ghost_columns_each_side) {
+  return memory_share(process_count(), processes_on_this_node(), columns, ghost_columns_each_side);
+}
 
 } // namespace talus

@@ -2,6 +2,7 @@
 // without MPI, or when MPI is not initialized.
 #pragma once
 
+#include <algorithm>
 #include <functional>
 #include <string>
 
@@ -9,6 +10,19 @@ namespace talus {
 
 int process_rank();
 int process_count();
+// How many of the run's processes share this machine (and its memory). Collective on its first
+// call, which the program makes right after starting MPI.
+int processes_on_this_node();
+// The part of a whole case's memory that `here` of a run's `processes` hold together on one
+// machine: each holds 1/N of the `columns` cell columns along x plus its ghosts (at most
+// ghost_columns_each_side on either side); at most 1.
+inline double memory_share(int processes, int here, double columns, int ghost_columns_each_side) {
+  if (processes <= 1 || columns <= 0.0) return 1.0;
+  const double each = 1.0 / processes + 2.0 * ghost_columns_each_side / columns;
+  return std::min(1.0, each * here);
+}
+// memory_share for this run's processes on this machine.
+double node_memory_share(double columns, int ghost_columns_each_side);
 
 // Runs f on rank 0 only; a RunFolderError or OutputError it throws is thrown on every process
 // (so that none waits for a process that gave up).
