@@ -1,6 +1,8 @@
 #include "talus/run.hpp"
 
+#include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
+#include "talus/case/size.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/frame_totals.hpp"
 #include "talus/output/progress.hpp"
@@ -529,6 +531,16 @@ RunResult restart_run(const RunOptions& opt) {
     Case c = parse_case_text(text, own_case, {});
     c.file = file; // the original case file, for the summary
     if (dim != c.simulation.dimension) throw CheckpointError(path + ": dimension mismatch");
+    // A restart builds the whole state on every process before each keeps its slab.
+    std::vector<std::size_t> counts;
+    for (std::size_t b = 0; b < c.bodies.size(); ++b)
+      counts.push_back(count_particles(c, b));
+    if (const double need = estimate_memory(c, counts) * processes_on_this_node();
+        need > machine_memory())
+      throw CheckpointError(fmt::format(
+          "{}: a restart builds the whole state on each process before it keeps its slab: "
+          "about {:.3g} GB on this machine's {} processes, more than its {:.3g} GB",
+          path, need / 1e9, processes_on_this_node(), machine_memory() / 1e9));
     return dim == 2 ? run_dim<2>(c, opt, &ar, path) : run_dim<3>(c, opt, &ar, path);
   }
   throw CheckpointError(fmt::format("{}: no readable checkpoint:{}", opt.out_dir, errors));
