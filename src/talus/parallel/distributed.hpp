@@ -48,7 +48,8 @@ public:
   // summed over every process's own particles).
   void release();
   // Calls f(sim) on rank 0 with the whole state in sim (one process's particle order, the
-  // contact nodes of every process); the other processes wait. Collective.
+  // contact nodes of every process); the other processes wait. Collective. Holds the whole
+  // state on rank 0: for the tests' state hash; a run's output streams instead (gather).
   template <class F>
   void with_whole_state(F&& f) {
     gather_to_root();

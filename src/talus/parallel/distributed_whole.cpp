@@ -1,4 +1,5 @@
-// Distributed<D>'s whole state on rank 0 (with_whole_state, for checkpoints) and the release.
+// Distributed<D>: what output gathers to rank 0 (frames and checkpoints in one process's order,
+// the contact nodes and the pore pool, the whole state for the tests' hash) and the release.
 #include "talus/parallel/arrays.hpp"
 #include "talus/parallel/distributed.hpp"
 
