@@ -259,8 +259,9 @@ void particle_arrays(VtuBuilder* out, const Particles<D>& P, const std::vector<i
     reals("interface_cohesion", 1, f64, scalar(P.cohesion));
     reals("interface_friction", 1, f64, scalar(P.friction));
   }
-  for (const auto& [name, value] : extra)
-    if (fields.wants(name)) reals(name, 1, f64, [&](std::size_t p, int) { return value(p); });
+  for (const ScalarField& e : extra)
+    if (fields.wants(e.first))
+      reals(e.first, 1, f64, [&](std::size_t p, int) { return e.second(p); });
 }
 
 } // namespace
