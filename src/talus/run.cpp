@@ -1,8 +1,6 @@
 #include "talus/run.hpp"
 
-#include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
-#include "talus/case/size.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/frame_totals.hpp"
 #include "talus/output/progress.hpp"
@@ -78,6 +76,14 @@ public:
     RunResult r;
     r.particles = sim_.case_particles();
     if (restore) {
+#ifdef TALUS_MPI
+      // On several processes each process reads its slab of the checkpoint's particles alone.
+      if (process_count() > 1) {
+        restored_.emplace();
+        choose_slab<D>(*restore, sim_.grid(), sim_.setup().normal_smoothing, MPI_COMM_WORLD,
+                       *restored_);
+      }
+#endif
       serialize(*restore);
       if (!restore->done()) throw CheckpointError(restored_from + ": trailing bytes");
       if (writer_) writer_->write_tables(sim_);
@@ -124,11 +130,12 @@ public:
   template <class Ar>
   void serialize(Ar& ar) {
     sim_.serialize(ar, opt_.out_dir);
+    if constexpr (Ar::loading) distribute(); // the rest is read with the processes' exchange
     ar.io(settle_ke_), ar.io(stepping_), ar.io(frame_);
     bool started = monitor_.has_value();
     ar.io(started);
     if (!started) return;
-    if (!monitor_) start_output(); // restoring: every process, on the whole state
+    if (!monitor_) start_output(); // restoring: every process (its figures are then read)
     if (writer_) {
       writer_->serialize(ar);
     } else { // a process that writes nothing reads past the writer's tables
@@ -173,13 +180,15 @@ private:
     if (failed) throw OutputError(error);
   }
 
-  // A new case on several processes is seeded on each process's slab alone (seed_share.hpp);
-  // otherwise the whole case is, whose state a checkpoint then replaces.
+  // On several processes the case is seeded on each process's slab alone (seed_share.hpp); a
+  // restart then replaces those particles with its slab of the checkpoint's. On one process the
+  // whole case is seeded.
   Simulation<D> start(bool restoring) {
 #ifdef TALUS_MPI
-    if (process_count() > 1 && !restoring) {
+    if (process_count() > 1) {
       SharedSeeding<D> s = seed_share<D>(c_, MPI_COMM_WORLD);
-      seeded_bounds_ = std::move(s.bounds), seeded_body_begin_ = std::move(s.body_begin);
+      if (!restoring)
+        seeded_bounds_ = std::move(s.bounds), seeded_body_begin_ = std::move(s.body_begin);
       return Simulation<D>(c_, std::move(s.seeded));
     }
 #endif
@@ -187,15 +196,23 @@ private:
     return Simulation<D>(c_);
   }
 
-  // On several processes, each process keeps its slab of the particles from here on.
+  // On several processes, each process steps its slab of the particles from here on (once: a
+  // restart distributes as soon as the particles are read).
   void distribute() {
 #ifdef TALUS_MPI
-    if (process_count() == 1) return;
-    if (seeded_bounds_.empty())
-      dist_ = std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD);
-    else
+    if (process_count() == 1 || dist_) return;
+    if (restored_) {
+      std::vector<std::size_t> body_begin{0};
+      for (int b = 0; b < sim_.particles().num_bodies(); ++b)
+        body_begin.push_back(body_begin.back() + sim_.body_particles(b));
+      dist_ =
+          std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD, std::move(restored_->bounds),
+                                           std::move(body_begin), 200, std::move(restored_->rows));
+      restored_.reset();
+    } else {
       dist_ = std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD, std::move(seeded_bounds_),
                                                std::move(seeded_body_begin_));
+    }
 #endif
   }
 
@@ -464,6 +481,7 @@ private:
 #ifdef TALUS_MPI
   std::vector<std::int64_t> seeded_bounds_;    // a new case's first slabs (seed_share)
   std::vector<std::size_t> seeded_body_begin_; // and its body ranges of the ids
+  std::optional<RestoredShare> restored_;      // a restart's slab of the checkpoint
 #endif
   Simulation<D> sim_;
   bool root_; // rank 0: the process that writes the run folder
@@ -505,15 +523,20 @@ RunResult restart_run(const RunOptions& opt) {
                                       opt.out_dir, opt.out_dir));
   std::string errors;
   for (const std::string& path : found) {
-    std::string payload;
+    // Rank 0 verifies the checksum; each process then reads only what it keeps (LoadArchive).
+    std::string failure;
+    CheckpointPayload payload;
     try {
-      payload = read_checkpoint_file(path);
+      payload = open_checkpoint(path, process_rank() == 0);
     } catch (const CheckpointError& e) {
-      if (opt.log) *opt.log << "talus: skipping " << e.what() << "\n";
-      errors += std::string("\n  ") + e.what();
+      failure = e.what();
+    }
+    if (failure = first_failure(failure); !failure.empty()) {
+      if (opt.log) *opt.log << "talus: skipping " << failure << "\n";
+      errors += "\n  " + failure;
       continue;
     }
-    LoadArchive ar(payload, path);
+    LoadArchive ar(payload);
     int dim = 0;
     std::string file, text;
     ar.io(dim), ar.io(file), ar.io(text);
@@ -528,19 +551,10 @@ RunResult restart_run(const RunOptions& opt) {
             "values, ran into this folder): not restarted",
             path, own_case));
     }
+    // (Parsing checks the memory: this machine's processes' slabs, or the whole case.)
     Case c = parse_case_text(text, own_case, {});
     c.file = file; // the original case file, for the summary
     if (dim != c.simulation.dimension) throw CheckpointError(path + ": dimension mismatch");
-    // A restart builds the whole state on every process before each keeps its slab.
-    std::vector<std::size_t> counts;
-    for (std::size_t b = 0; b < c.bodies.size(); ++b)
-      counts.push_back(count_particles(c, b));
-    if (const double need = estimate_memory(c, counts) * processes_on_this_node();
-        need > machine_memory())
-      throw CheckpointError(fmt::format(
-          "{}: a restart builds the whole state on each process before it keeps its slab: "
-          "about {:.3g} GB on this machine's {} processes, more than its {:.3g} GB",
-          path, need / 1e9, processes_on_this_node(), machine_memory() / 1e9));
     return dim == 2 ? run_dim<2>(c, opt, &ar, path) : run_dim<3>(c, opt, &ar, path);
   }
   throw CheckpointError(fmt::format("{}: no readable checkpoint:{}", opt.out_dir, errors));

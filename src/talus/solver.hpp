@@ -161,12 +161,15 @@ public:
   template <class Ar>
   void serialize(Ar& ar, const std::string& source) {
     if constexpr (Ar::loading) {
-      io_expect(ar, particles_.body_begin, "bodies and particle counts", source);
-      particles_.for_each_array([&](auto& a) {
-        ar.io(a);
-        if (a.size() != particles_.size())
-          throw CheckpointError(source + ": corrupt checkpoint (particle array length)");
-      });
+      // The whole case's body ranges; the particles are all of them, or on several processes
+      // this process's slab (LoadArchive::set_choose).
+      std::vector<std::size_t> whole{0};
+      for (const std::size_t n : body_count_)
+        whole.push_back(whole.back() + n);
+      io_expect(ar, whole, "bodies and particle counts", source);
+      ar.particles(particles_, whole);
+      invalidate_shape();
+      particles_checked_ = false;
       // The map from id to index, from the ids (each once, within the case's).
       std::fill(index_of_id_.begin(), index_of_id_.end(), std::uint32_t(-1));
       for (std::size_t p = 0; p < particles_.size(); ++p) {

@@ -4,7 +4,8 @@ interfaces that degrade with slip and cross the slab cuts, settling, probes, fra
 and 4 processes x 1 and 2 threads is byte for byte the one-process run's: every CSV, every VTU
 frame (particles, streamed to rank 0, and contact nodes), the ParaView series, and the results
 in summary.json. Then: a run stopped on 2 processes
-(--max-steps) and restarted on 3 ends identical; a process killed with SIGKILL stops the others
+(--max-steps), its newest checkpoint damaged, and restarted on 3 ends identical (each process
+reading its slab of the older checkpoint); a process killed with SIGKILL stops the others
 and leaves its newest checkpoint readable, and a one-process restart from it ends identical; a
 grid too narrow for the processes is refused with a message naming its columns.
 
@@ -88,11 +89,18 @@ d = fresh("two_then_three")
 rc, out = run([*mpi(2, 1), *args(d, ["--max-steps", "120"])], 1)
 if rc != 0 or "stopped after 120 steps" not in out:
     failures.append(f"stop on 2 processes: exit {rc}: {out[-1500:]}")
+# The newest checkpoint damaged (one byte): every process skips it for the older one.
+newest = sorted((d / "checkpoints").glob("*.ckpt"))[-1]
+damaged = bytearray(newest.read_bytes())
+damaged[len(damaged) // 2] ^= 1
+newest.write_bytes(damaged)
 rc, out = run([*mpi(3, 1), "run", "--restart", str(d)], 1)
 if rc != 0:
     failures.append(f"restart on 3 processes: exit {rc}: {out[-1500:]}")
 else:
-    compare(ref, d, "stopped on 2 processes, restarted on 3")
+    if f"skipping {newest}: corrupt checkpoint (checksum mismatch)" not in out:
+        failures.append(f"restart on 3 processes: the damaged checkpoint not reported: {out[:800]}")
+    compare(ref, d, "stopped on 2 processes, restarted on 3 from the older checkpoint")
 
 # A process killed mid-run: mpirun stops the others; the newest checkpoint is whole.
 d = fresh("killed")

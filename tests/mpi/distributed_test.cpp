@@ -96,8 +96,9 @@ Outcome finish(Distributed<D>& dist) {
 }
 
 // The case seeded on every process's slab; or, with `split` > 0, its first `split` steps on the
-// first max(size - 1, 1) processes, a checkpoint of the whole state (bytes, as a checkpoint file
-// holds them), and the rest on every process from that checkpoint.
+// first max(size - 1, 1) processes from the whole state, a checkpoint of the whole state (bytes,
+// as a checkpoint file holds them), and the rest on every process, each reading its slab of that
+// checkpoint.
 template <int D>
 Outcome run_distributed(const Case& c, const GoldenCase& g, int split) {
   const int total = g.settle_steps + g.steps;
@@ -135,10 +136,17 @@ Outcome run_distributed(const Case& c, const GoldenCase& g, int split) {
   MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG, 0, MPI_COMM_WORLD);
   bytes.resize(n);
   MPI_Bcast(bytes.data(), static_cast<int>(n), MPI_BYTE, 0, MPI_COMM_WORLD);
-  Simulation<D> sim(c);
+  // Restored as `talus run --restart` restores on several processes: each process seeds its
+  // slab of the case, then reads its slab of the checkpoint's particles alone.
+  SharedSeeding<D> seeding = seed_share<D>(c, MPI_COMM_WORLD, start<D>);
+  Simulation<D> sim(c, std::move(seeding.seeded));
   LoadArchive in(bytes, "memory");
+  RestoredShare share;
+  choose_slab<D>(in, sim.grid(), sim.setup().normal_smoothing, MPI_COMM_WORLD, share, start<D>);
   sim.serialize(in, "memory");
-  Distributed<D> dist(sim, MPI_COMM_WORLD, rebalance_every, start<D>);
+  EXPECT_TRUE(in.done());
+  Distributed<D> dist(sim, MPI_COMM_WORLD, std::move(share.bounds), std::move(seeding.body_begin),
+                      rebalance_every, std::move(share.rows));
   advance(dist, g, split, total);
   return finish(dist);
 }

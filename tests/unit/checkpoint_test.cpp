@@ -6,6 +6,7 @@
 #include <fstream>
 #include <gtest/gtest.h>
 #include <iterator>
+#include <numeric>
 
 namespace talus {
 namespace {
@@ -51,6 +52,95 @@ TEST(Checkpoint, ATruncatedOrChangedFileIsRefused) {
   EXPECT_THROW(read_checkpoint_file(path), CheckpointError);
   write(bytes);
   EXPECT_EQ(read_checkpoint_file(path), payload);
+}
+
+// Particles of two bodies whose every array holds values of its row, saved as a checkpoint's
+// particles; read back from the file whole, and as one process's share: the rows the chooser
+// keeps, read in spans small enough that gaps are skipped and spans split.
+TEST(Checkpoint, AShareOfTheParticlesIsReadFromTheFile) {
+  constexpr std::size_t n = 5000;
+  Particles<2> P;
+  for (std::size_t p = 0; p < n; ++p) {
+    if (p == 3000) P.body_begin.push_back(p);
+    P.push_back(Vec<2>(0.5 * static_cast<double>(p), 1.0), Vec<2>(1.0, -static_cast<double>(p)),
+                2.0 + static_cast<double>(p), 0.25);
+    P.eps_p.back() = 1e-3 * static_cast<double>(p);
+    P.id.back() = static_cast<std::uint32_t>(n - 1 - p);
+    P.stress.back().fill(static_cast<double>(p));
+  }
+  P.body_begin.push_back(n);
+  const std::vector<std::size_t> whole = P.body_begin;
+  SaveArchive out;
+  double tail = 7.5;
+  out.particles(P), out.io(tail);
+  const std::string path = test::temp_dir("checkpoint_share") + "/c.ckpt";
+  write_checkpoint_file(path, out.bytes());
+
+  auto expect_rows = [&](const Particles<2>& got, const std::vector<std::uint32_t>& rows) {
+    ASSERT_EQ(got.size(), rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const std::size_t r = rows[i];
+      EXPECT_EQ(got.x[i], P.x[r]);
+      EXPECT_EQ(got.v[i], P.v[r]);
+      EXPECT_EQ(got.m[i], P.m[r]);
+      EXPECT_EQ(got.eps_p[i], P.eps_p[r]);
+      EXPECT_EQ(got.id[i], P.id[r]);
+      EXPECT_EQ(got.stress[i], P.stress[r]);
+    }
+  };
+  std::vector<std::uint32_t> all(n);
+  std::iota(all.begin(), all.end(), 0u);
+  {
+    LoadArchive in(open_checkpoint(path));
+    std::vector<std::size_t> begin;
+    in.io(begin);
+    EXPECT_EQ(begin, whole);
+    Particles<2> got;
+    in.particles(got, whole);
+    double t = 0;
+    in.io(t);
+    EXPECT_TRUE(in.done());
+    EXPECT_EQ(t, tail);
+    EXPECT_EQ(got.body_begin, whole);
+    expect_rows(got, all);
+  }
+  // A share: rows 0-9, every 7th of [2000, 4000) and the last one, chosen from the positions
+  // (x = row / 2), which the chooser sees in chunks of 10 rows.
+  std::vector<std::uint32_t> rows;
+  LoadArchive in(open_checkpoint(path));
+  in.set_chunk_bytes(10 * sizeof(Vec<2>));
+  std::size_t scanned = 0, chunks = 0;
+  in.set_choose([&](std::size_t total, const LoadArchive::Scan& scan) {
+    EXPECT_EQ(total, n);
+    scan([&](std::size_t first, const char* data, std::size_t count) {
+      EXPECT_EQ(first, scanned);
+      EXPECT_LE(count, 10u);
+      ++chunks;
+      for (std::size_t i = 0; i < count; ++i, ++scanned) {
+        Vec<2> x;
+        std::memcpy(static_cast<void*>(&x), data + i * sizeof(Vec<2>), sizeof x);
+        const auto r = static_cast<std::uint32_t>(2.0 * x[0]);
+        EXPECT_EQ(r, scanned);
+        if (r < 10 || (r >= 2000 && r < 4000 && r % 7 == 0) || r == n - 1) rows.push_back(r);
+      }
+    });
+    return rows;
+  });
+  std::vector<std::size_t> begin;
+  in.io(begin);
+  Particles<2> got;
+  in.particles(got, whole);
+  double t = 0;
+  in.io(t);
+  EXPECT_TRUE(in.done());
+  EXPECT_EQ(t, tail);
+  EXPECT_EQ(scanned, n);
+  EXPECT_EQ(chunks, n / 10);
+  // Body 1 (rows 3000 on) starts at the first kept row from 3000.
+  const auto first_of_body1 =
+      static_cast<std::size_t>(std::lower_bound(rows.begin(), rows.end(), 3000u) - rows.begin());
+  EXPECT_EQ(got.body_begin, (std::vector<std::size_t>{0, first_of_body1, rows.size()}));
+  expect_rows(got, rows);
 }
 
 } // namespace

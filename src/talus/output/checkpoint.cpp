@@ -26,20 +26,65 @@ void append(std::string& out, const T& v) {
 
 } // namespace
 
+LoadArchive::LoadArchive(const CheckpointPayload& payload)
+    : base_(payload.offset), size_(payload.size), source_(payload.path) {
+  in_.emplace(payload.path, std::ios::binary);
+  if (!*in_) throw CheckpointError(fmt::format("{}: cannot open the checkpoint", payload.path));
+}
+
 std::size_t LoadArchive::count(std::size_t element_size) {
   std::uint64_t n = 0;
   io(n);
-  if (n > (data_.size() - pos_) / element_size)
+  if (n > (size_ - pos_) / element_size)
     throw CheckpointError(
         fmt::format("{}: corrupt checkpoint (a length of {} at byte {})", source_, n, pos_));
   return static_cast<std::size_t>(n);
 }
 
 void LoadArchive::raw(void* p, std::size_t n) {
-  if (n > data_.size() - pos_)
+  if (n > size_ - pos_)
     throw CheckpointError(fmt::format("{}: corrupt checkpoint (ends at byte {})", source_, pos_));
-  std::memcpy(p, data_.data() + pos_, n);
+  read_at(pos_, static_cast<char*>(p), n);
   pos_ += n;
+}
+
+void LoadArchive::read_at(std::size_t at, char* out, std::size_t n) {
+  if (n == 0) return;
+  if (!in_) {
+    std::memcpy(out, data_.data() + at, n);
+    return;
+  }
+  in_->seekg(static_cast<std::streamoff>(base_ + at));
+  if (!in_->read(out, static_cast<std::streamsize>(n)))
+    throw CheckpointError(fmt::format("{}: cannot read the checkpoint at byte {}", source_, at));
+}
+
+void LoadArchive::scan(std::size_t at, std::size_t width, std::size_t n, const Chunk& f) {
+  const std::size_t per_chunk = std::max<std::size_t>(chunk_bytes_ / width, 1);
+  for (std::size_t first = 0; first < n; first += per_chunk) {
+    const std::size_t count = std::min(per_chunk, n - first);
+    chunk_.resize(count * width);
+    read_at(at + first * width, chunk_.data(), count * width);
+    f(first, chunk_.data(), count);
+  }
+}
+
+// Rows close together are read as one span of up to chunk_bytes_; a gap wider than that is
+// skipped. A restart's memory is its share of the particles, not the file's.
+void LoadArchive::read_rows(std::size_t at, std::size_t width,
+                            const std::vector<std::uint32_t>& rows, char* out) {
+  const std::size_t per_chunk = std::max<std::size_t>(chunk_bytes_ / width, 1);
+  for (std::size_t i = 0; i < rows.size();) {
+    const std::size_t first = rows[i];
+    std::size_t j = i;
+    while (j < rows.size() && rows[j] - first < per_chunk)
+      ++j;
+    const std::size_t span = rows[j - 1] - first + 1;
+    chunk_.resize(span * width);
+    read_at(at + first * width, chunk_.data(), span * width);
+    for (; i < j; ++i)
+      std::memcpy(out + i * width, chunk_.data() + (rows[i] - first) * width, width);
+  }
 }
 
 CheckpointFile::CheckpointFile(const std::string& path, std::uint64_t payload_size)
@@ -83,9 +128,7 @@ void write_checkpoint_file(const std::string& path, const std::string& payload) 
   file.finish();
 }
 
-// Reads the payload straight into its string (its size is in the header): one copy of the
-// state in memory, not the file's and the payload's.
-std::string read_checkpoint_file(const std::string& path) {
+CheckpointPayload open_checkpoint(const std::string& path, bool checksum) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw CheckpointError(fmt::format("{}: cannot open the checkpoint", path));
   const auto file_size = static_cast<std::uint64_t>(in.tellg());
@@ -105,13 +148,33 @@ std::string read_checkpoint_file(const std::string& path) {
   if (size != file_size - header - sizeof sum)
     throw CheckpointError(fmt::format("{}: truncated checkpoint ({} of {} bytes)", path, file_size,
                                       size + header + sizeof sum));
-  std::string payload(size, '\0');
-  if (!in.read(payload.data(), static_cast<std::streamsize>(size)) ||
-      !in.read(reinterpret_cast<char*>(&sum), sizeof sum))
+  if (!checksum) return {path, header, size};
+  // The checksum, over the payload in chunks.
+  std::vector<char> chunk(std::min<std::uint64_t>(size, std::uint64_t{16} << 20));
+  std::uint64_t h = fnv_basis;
+  for (std::uint64_t done = 0; done < size;) {
+    const std::size_t n =
+        static_cast<std::size_t>(std::min<std::uint64_t>(chunk.size(), size - done));
+    if (!in.read(chunk.data(), static_cast<std::streamsize>(n)))
+      throw CheckpointError(fmt::format("{}: cannot read the checkpoint", path));
+    h = fnv1a(std::string_view(chunk.data(), n), h);
+    done += n;
+  }
+  if (!in.read(reinterpret_cast<char*>(&sum), sizeof sum))
     throw CheckpointError(fmt::format("{}: cannot read the checkpoint", path));
-  if (fnv1a(payload) != sum)
+  if (h != sum)
     throw CheckpointError(fmt::format("{}: corrupt checkpoint (checksum mismatch)", path));
-  return payload;
+  return {path, header, size};
+}
+
+std::string read_checkpoint_file(const std::string& path) {
+  const CheckpointPayload payload = open_checkpoint(path);
+  std::string bytes(payload.size, '\0');
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(payload.offset));
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
+    throw CheckpointError(fmt::format("{}: cannot read the checkpoint", path));
+  return bytes;
 }
 
 std::string checkpoint_path(const std::string& run_dir, std::int64_t step) {

@@ -12,8 +12,10 @@
 #include "talus/particles.hpp"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <functional>
 #include <optional>
 #include <string>
@@ -118,12 +120,20 @@ private:
   std::vector<std::size_t> body_begin_; // the whole state's, with order_
 };
 
-// Reads values back; any read past the end throws CheckpointError.
+// A checkpoint file's payload: where it starts and its size (open_checkpoint verified it).
+struct CheckpointPayload {
+  std::string path;
+  std::uint64_t offset = 0, size = 0;
+};
+
+// Reads values back, from memory or from a checkpoint file as they are needed (the payload is
+// never held whole); any read past the end throws CheckpointError.
 class LoadArchive {
 public:
   static constexpr bool loading = true;
-  explicit LoadArchive(std::string_view bytes, std::string source)
-      : data_(bytes), source_(std::move(source)) {}
+  LoadArchive(std::string_view bytes, std::string source)
+      : data_(bytes), size_(bytes.size()), source_(std::move(source)) {}
+  explicit LoadArchive(const CheckpointPayload& payload);
 
   template <class T>
   requires stored_raw<T>
@@ -145,14 +155,67 @@ public:
   void io(std::pair<A, B>& p) {
     io(p.first), io(p.second);
   }
-  bool done() const { return pos_ == data_.size(); }
+  bool done() const { return pos_ == size_; }
+
+  // On several processes a restart keeps one process's share of the particles: `choose` is
+  // handed the particle count and a scan of every position (chunks of raw Vec<D>: the first
+  // particle's row, the bytes, the count) and returns the rows to keep, ascending.
+  using Chunk = std::function<void(std::size_t first, const char* data, std::size_t count)>;
+  using Scan = std::function<void(const Chunk&)>;
+  using Choose = std::function<std::vector<std::uint32_t>(std::size_t total, const Scan& x)>;
+  void set_choose(Choose choose) { choose_ = std::move(choose); }
+  // The most bytes a scan or a read of chosen rows holds at once (16 MiB; tests set less).
+  void set_chunk_bytes(std::size_t n) { chunk_bytes_ = std::max<std::size_t>(n, 1); }
+
+  // The particle arrays SaveArchive::particles wrote for the whole state's body ranges
+  // `body_begin`: all of them, or the rows `choose` keeps (P's body ranges are then theirs).
+  template <int D>
+  void particles(Particles<D>& P, const std::vector<std::size_t>& body_begin) {
+    const std::size_t n = body_begin.back();
+    std::vector<std::size_t> at; // each array's first byte
+    P.for_each_array([&](auto& a) {
+      using T = typename std::decay_t<decltype(a)>::value_type;
+      if (count(sizeof(T)) != n)
+        throw CheckpointError(source_ + ": corrupt checkpoint (particle array length)");
+      at.push_back(pos_);
+      a.resize(choose_ ? 0 : n);
+      if (choose_)
+        pos_ += n * sizeof(T);
+      else
+        raw(a.data(), n * sizeof(T));
+    });
+    P.body_begin = body_begin;
+    if (!choose_) return;
+    // The positions are the first array (Particles::arrays).
+    const std::vector<std::uint32_t> rows =
+        choose_(n, [&](const Chunk& f) { scan(at[0], sizeof(Vec<D>), n, f); });
+    std::size_t k = 0;
+    P.for_each_array([&](auto& a) {
+      using T = typename std::decay_t<decltype(a)>::value_type;
+      a.resize(rows.size());
+      read_rows(at[k++], sizeof(T), rows, reinterpret_cast<char*>(a.data()));
+    });
+    for (std::size_t& b : P.body_begin)
+      b = static_cast<std::size_t>(std::lower_bound(rows.begin(), rows.end(), b) - rows.begin());
+  }
 
 private:
   std::size_t count(std::size_t element_size);
   void raw(void* p, std::size_t n);
-  std::string_view data_;
+  void read_at(std::size_t at, char* out, std::size_t n); // n bytes from byte `at`
+  // n elements of `width` bytes from byte `at`, to f in chunks.
+  void scan(std::size_t at, std::size_t width, std::size_t n, const Chunk& f);
+  // The elements `rows` (ascending) of an array of `width`-byte elements at byte `at`, to out.
+  void read_rows(std::size_t at, std::size_t width, const std::vector<std::uint32_t>& rows,
+                 char* out);
+  std::string_view data_;           // in memory
+  std::optional<std::ifstream> in_; // or the file, from byte `base_`
+  std::uint64_t base_ = 0, size_ = 0;
   std::size_t pos_ = 0;
   std::string source_;
+  Choose choose_;
+  std::size_t chunk_bytes_ = std::size_t{16} << 20;
+  std::vector<char> chunk_;
 };
 
 // Requires a loaded value to equal the current one (e.g. the dimension or a particle count).
@@ -181,7 +244,10 @@ private:
 
 // Writes `payload` as a checkpoint file.
 void write_checkpoint_file(const std::string& path, const std::string& payload);
-// Reads and verifies a checkpoint file; throws CheckpointError if it is not a complete one.
+// A checkpoint file's payload, its header and size verified and, with `checksum`, its checksum
+// (one streaming pass); throws CheckpointError if it is not a complete one.
+CheckpointPayload open_checkpoint(const std::string& path, bool checksum = true);
+// Reads and verifies a checkpoint file's payload whole.
 std::string read_checkpoint_file(const std::string& path);
 
 // The checkpoints of a run folder (RUN/checkpoints/step_NNNNNNNNNN.ckpt), newest first.

@@ -83,26 +83,27 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t reba
 
 template <int D>
 Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::vector<std::int64_t> bounds,
-                            std::vector<std::size_t> body_begin, std::int64_t rebalance_interval)
+                            std::vector<std::size_t> body_begin, std::int64_t rebalance_interval,
+                            std::optional<std::vector<std::uint32_t>> restored_rows)
     : sim_(sim), comm_(comm), rebalance_interval_(rebalance_interval), bounds_(std::move(bounds)),
       body_begin_(std::move(body_begin)) {
   init();
   // Each process checks its own particles; every process stops with the first failure.
-  std::string failure;
-  try {
-    sim_.check_particles();
-  } catch (const SimulationError& e) {
-    failure = e.what();
-  }
-  agree_on_failure(failure);
-  // A new case's particles stand in id order, which is one process's order (the global index).
+  check_particles();
   own_ = sim_.take_particles();
-  own_index_ = own_.id;
+  if (restored_rows) {
+    own_index_ = std::move(*restored_rows);
+    // A restored state's contact nodes: rank 0's to gather, once.
+    if (rank_ != 0) sim_.drop_contact_nodes();
+  } else {
+    // A new case's particles stand in id order, which is one process's order.
+    own_index_ = own_.id;
+  }
   own_.body_begin = body_begin_of(own_index_);
   sim_.set_exchange(this);
   fields_stand_ = false;
   build_share();
-  sim_.set_energy_baseline();
+  if (!restored_rows) sim_.set_energy_baseline();
 }
 
 template <int D>

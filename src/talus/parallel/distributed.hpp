@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <mpi.h>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,10 +34,13 @@ public:
   // Throws DecompositionError if the grid is too narrow for the processes.
   Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t rebalance_interval = 200,
               Start start = Start::by_count);
-  // `sim` holds this process's own particles of a new case, seeded on their slab alone
-  // (seed_share.hpp: its `bounds` and the whole case's `body_begin`).
+  // `sim` holds this process's own particles in one process's order, `bounds` their slabs and
+  // `body_begin` the whole state's body ranges: a new case's particles seeded on their slab
+  // alone (seed_share.hpp), whose ids are their global indices; or, given `restored_rows`, a
+  // checkpoint's slab (choose_slab), whose rows in the checkpoint are.
   Distributed(Simulation<D>& sim, MPI_Comm comm, std::vector<std::int64_t> bounds,
-              std::vector<std::size_t> body_begin, std::int64_t rebalance_interval = 200);
+              std::vector<std::size_t> body_begin, std::int64_t rebalance_interval = 200,
+              std::optional<std::vector<std::uint32_t>> restored_rows = std::nullopt);
   Distributed(const Distributed&) = delete;
   Distributed& operator=(const Distributed&) = delete;
   ~Distributed() override { sim_.set_exchange(nullptr); }

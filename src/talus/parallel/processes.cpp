@@ -3,6 +3,8 @@
 #include "talus/output/files.hpp"
 
 #ifdef TALUS_MPI
+#include "talus/parallel/seed_share.hpp"
+
 #include <mpi.h>
 #endif
 
@@ -42,6 +44,13 @@ int processes_on_this_node() {
   return here;
 }
 
+std::string first_failure(const std::string& failure) {
+  if (process_count() == 1) return failure;
+  return first_message(MPI_COMM_WORLD,
+                       failure.empty() ? no_key : static_cast<std::uint64_t>(process_rank()),
+                       failure);
+}
+
 void on_rank_zero(const std::function<void()>& f) {
   if (process_count() == 1) return f();
   int kind = 0; // 1: RunFolderError, 2: OutputError
@@ -72,6 +81,9 @@ int process_count() {
 }
 int processes_on_this_node() {
   return 1;
+}
+std::string first_failure(const std::string& failure) {
+  return failure;
 }
 void on_rank_zero(const std::function<void()>& f) {
   f();

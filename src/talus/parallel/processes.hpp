@@ -24,6 +24,10 @@ inline double memory_share(int processes, int here, double columns, int ghost_co
 // memory_share for this run's processes on this machine.
 double node_memory_share(double columns, int ghost_columns_each_side);
 
+// The failure (a message; empty: none) of the lowest process that has one, on every process.
+// Collective.
+std::string first_failure(const std::string& failure);
+
 // Runs f on rank 0 only; a RunFolderError or OutputError it throws is thrown on every process
 // (so that none waits for a process that gave up).
 void on_rank_zero(const std::function<void()>& f);

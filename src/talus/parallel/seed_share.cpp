@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 namespace talus {
@@ -166,6 +167,43 @@ SharedSeeding<D> seed_share(const Case& c, MPI_Comm comm, SlabStart start) {
   return out;
 }
 
+template <int D>
+void choose_slab(LoadArchive& ar, const Grid<D>& G, int normal_smoothing, MPI_Comm comm,
+                 RestoredShare& out, SlabStart start) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  std::int64_t per_column = 1;
+  for (int d = 1; d < D; ++d)
+    per_column *= G.cells[d];
+  ar.set_choose([&G, &out, rank, size, per_column, normal_smoothing,
+                 start](std::size_t, const LoadArchive::Scan& scan) {
+    // Each chunk's positions, one column at a time (copied: the bytes need not be aligned).
+    auto columns = [&](auto&& f) {
+      scan([&](std::size_t first, const char* data, std::size_t count) {
+        for (std::size_t i = 0; i < count; ++i) {
+          Vec<D> x;
+          std::memcpy(static_cast<void*>(&x), data + i * sizeof(Vec<D>), sizeof(Vec<D>));
+          f(first + i, owner_column(G, x, per_column));
+        }
+      });
+    };
+    std::vector<std::int64_t> counts(static_cast<std::size_t>(G.cells[0]), 0);
+    columns([&](std::size_t, std::int64_t col) { ++counts[col]; });
+    if (start == SlabStart::even_columns) std::fill(counts.begin(), counts.end(), 1);
+    out.bounds = slab_bounds(counts, size, ghost_columns(normal_smoothing));
+    out.rows.clear();
+    columns([&](std::size_t row, std::int64_t col) {
+      if (slab_owner(out.bounds, col) == rank) out.rows.push_back(static_cast<std::uint32_t>(row));
+    });
+    return out.rows;
+  });
+}
+
+template void choose_slab<2>(LoadArchive&, const Grid<2>&, int, MPI_Comm, RestoredShare&,
+                             SlabStart);
+template void choose_slab<3>(LoadArchive&, const Grid<3>&, int, MPI_Comm, RestoredShare&,
+                             SlabStart);
 template SharedSeeding<2> seed_share<2>(const Case&, MPI_Comm, SlabStart);
 template SharedSeeding<3> seed_share<3>(const Case&, MPI_Comm, SlabStart);
 

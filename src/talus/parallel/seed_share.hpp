@@ -6,6 +6,7 @@
 // one process (seeding.hpp).
 #pragma once
 
+#include "talus/output/checkpoint.hpp"
 #include "talus/parallel/decomposition.hpp"
 #include "talus/seeding.hpp"
 
@@ -26,6 +27,20 @@ struct SharedSeeding {
 // too narrow for the processes) on every process alike.
 template <int D>
 SharedSeeding<D> seed_share(const Case& c, MPI_Comm comm, SlabStart start = SlabStart::by_count);
+
+// A checkpoint restored on several processes, each process reading its slab alone: the slabs
+// are cut from the checkpoint's particles per column (`start`) as Distributed's constructor cuts
+// them from the whole state, so that the run continues as it would from the whole state.
+struct RestoredShare {
+  std::vector<std::int64_t> bounds;
+  std::vector<std::uint32_t> rows; // this process's own particles' rows: their global indices
+};
+// Sets `ar` to keep this process's slab (LoadArchive::set_choose); `out` is filled as the
+// particles are read. Reading then throws DecompositionError (a grid too narrow for the
+// processes) on every process alike.
+template <int D>
+void choose_slab(LoadArchive& ar, const Grid<D>& G, int normal_smoothing, MPI_Comm comm,
+                 RestoredShare& out, SlabStart start = SlabStart::by_count);
 
 // The message of the process with the least key, on every process (keys differ between
 // processes; a process with nothing to say gives no_key); empty if none has one. Collective.
