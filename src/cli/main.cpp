@@ -316,7 +316,8 @@ int main(int argc, char** argv) {
   try {
     c = talus::parse_case_file(case_file, overrides);
   } catch (const talus::CaseError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    // Every process reads the same case and fails alike: rank 0 says so.
+    if (talus::process_rank() == 0) fmt::print(stderr, "error: {}\n", e.what());
     return 2;
   }
   if (chk->parsed()) {

@@ -99,6 +99,10 @@ public:
   void add_energy_terms(int b, bool own_only, ExactSum& gravity, ExactSum& strain) const;
   // Whether particle p counts in this process's sums: on one process every particle does.
   bool is_own(std::size_t p) const { return !exchange_ || exchange_->is_own(p); }
+  // Particle p's index on one process (as errors name it, on any number of processes).
+  std::size_t one_process_index(std::size_t p) const {
+    return exchange_ ? exchange_->global_index(p) : p;
+  }
   Exchange* exchange() const { return exchange_; }
   // The elastic energy at release (or at the start, without settling).
   double strain_energy_at_release(int b) const { return strain_energy0_[b]; }

@@ -7,7 +7,8 @@ in summary.json. Then: a run stopped on 2 processes
 (--max-steps), its newest checkpoint damaged, and restarted on 3 ends identical (each process
 reading its slab of the older checkpoint); a process killed with SIGKILL stops the others
 and leaves its newest checkpoint readable, and a one-process restart from it ends identical; a
-grid too narrow for the processes is refused with a message naming its columns.
+grid too narrow for the processes is refused with a message naming its columns; a bad case's
+error is printed once, not once per process.
 
 Usage: mpi_run_test.py TALUS_SERIAL TALUS_MPI MPIEXEC SOURCE_DIR WORK_DIR
 """
@@ -144,6 +145,13 @@ if rc != 1 or summary["status"] != "failed":
 for part in ("process ", " of 2: step ", "time ", "particle ", "det F", "last good checkpoint: "):
     if part not in message:
         failures.append(f"unstable: the summary's message lacks '{part}': {message}")
+# The particle is named as one process names it (its index in one process's order, its id).
+d1 = fresh("unstable_one")
+run([serial, "run", str(source / "cases/examples/block_on_floor.toml"), "--out", str(d1),
+     "--set", "simulation.dt=0.01", "--set", "checkpoint.every=0.01"], 1, timeout=300)
+one = json.loads((d1 / "summary.json").read_text()).get("message", "")
+if message.replace("process 0 of 2: ", "").replace(str(d), str(d1)) != one:
+    failures.append(f"unstable: 2 processes say '{message}', one process '{one}'")
 
 # A grid too narrow for the processes' slabs.
 d = fresh("narrow")
@@ -152,8 +160,15 @@ rc, out = run([*mpi(4, 1), "run", str(source / "cases/benchmarks/cohesive_block.
 if rc != 2 or "cell columns" not in out:
     failures.append(f"narrow grid: exit {rc}, expected 2 with the columns named: {out[-800:]}")
 
+# A bad case: every process reads it and fails alike; the error is printed once.
+d = fresh("bad_case")
+rc, out = run([*mpi(3, 1), "run", str(case), "--out", str(d), "--set", "grid.cell_size=-1"], 1)
+if rc != 2 or out.count("grid.cell_size: must be > 0") != 1:
+    failures.append(f"bad case on 3 processes: exit {rc}, expected 2 and the error once: {out}")
+
 if failures:
     print("\n".join(failures))
     sys.exit(1)
 print("mpi run folders identical to the one-process run (2, 3, 4 processes x 1, 2 threads; "
-      "2 -> 3 restart; killed process; blow-up reported as failed; narrow grid refused)")
+      "2 -> 3 restart; killed process; blow-up reported as failed; narrow grid refused; bad "
+      "case reported once)")

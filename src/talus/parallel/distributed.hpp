@@ -92,6 +92,7 @@ public:
   std::size_t own_particles() const { return own_count_; }
   // Whether particle p of the share in sim is this process's own (not a ghost copy).
   bool is_own(std::size_t p) const override { return share_own_[p] != 0; }
+  std::size_t global_index(std::size_t p) const override { return share_index_[p]; }
   std::size_t ghost_particles() const { return ghosts_; }
   // Steps after which the share was merged anew (a particle crossed a widened slab's edge),
   // instead of having only its ghosts' values refreshed in place.

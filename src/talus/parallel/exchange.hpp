@@ -18,6 +18,8 @@ public:
   virtual ~Exchange() = default;
   // Whether particle p of the share is this process's own (not a ghost copy of another's).
   virtual bool is_own(std::size_t p) const = 0;
+  // Particle p's index in one process's particle order (its global index).
+  virtual std::size_t global_index(std::size_t p) const = 0;
   // The largest of every process's value.
   virtual double max(double local) = 0;
   // Elementwise: lo[i] <- min over the processes, hi[i] <- max.

@@ -34,7 +34,7 @@ void Simulation<D>::report_bad_particle(std::size_t p) const {
                                                 : "particle left the grid";
   throw SimulationError(
       fmt::format("step {}, time {:.6g} s: body '{}', particle {} (id {}) at ({}): {}", steps_,
-                  time_, setup_.bodies[P.body_of(p)].name, p, P.id[p],
+                  time_, setup_.bodies[P.body_of(p)].name, one_process_index(p), P.id[p],
                   fmt::join(P.x[p].data(), P.x[p].data() + D, ", "), what));
 }
 

@@ -55,7 +55,7 @@ void Simulation<D>::report_time_step_collapse(double stable, double floor) const
       "step {}, time {:.6g} s: body '{}', particle {} (id {}) at ({}): time step collapsed to "
       "{:.3g} s, below the floor {:.3g} s (simulation.dt_min): speed {:.4g} m/s, volume ratio "
       "{:.3g}",
-      steps_, time_, setup_.bodies[P.body_of(worst)].name, worst, P.id[worst],
+      steps_, time_, setup_.bodies[P.body_of(worst)].name, one_process_index(worst), P.id[worst],
       fmt::join(P.x[worst].data(), P.x[worst].data() + D, ", "), stable, floor, P.v[worst].norm(),
       P.vol[worst] / P.vol0[worst]));
 }

@@ -449,7 +449,7 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
     pending_failure_ = fmt::format(
         "step {}, time {:.6g} s: body '{}', particle {} (id {}) at ({}): det F = {:.3g} <= 0 "
         "(the particle turned inside out; reduce the time step or check the case)",
-        steps_, time_, setup_.bodies[b].name, p, P.id[p],
+        steps_, time_, setup_.bodies[b].name, one_process_index(p), P.id[p],
         fmt::join(P.x[p].data(), P.x[p].data() + D, ", "), P.F[p].determinant());
 }
 
