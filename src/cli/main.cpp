@@ -314,9 +314,10 @@ int main(int argc, char** argv) {
 
   talus::Case c;
   try {
-    c = talus::parse_case_file(case_file, overrides);
+    // Every process reads the case; a check that fails on one machine alone (its memory) stops
+    // them all, and rank 0 reports the first failing process's error.
+    talus::agreed<talus::CaseError>([&] { c = talus::parse_case_file(case_file, overrides); });
   } catch (const talus::CaseError& e) {
-    // Every process reads the same case and fails alike: rank 0 says so.
     if (talus::process_rank() == 0) fmt::print(stderr, "error: {}\n", e.what());
     return 2;
   }

@@ -84,8 +84,10 @@ public:
                        *restored_);
       }
 #endif
-      serialize(*restore);
-      if (!restore->done()) throw CheckpointError(restored_from + ": trailing bytes");
+      agreed<CheckpointError>([&] {
+        serialize(*restore);
+        if (!restore->done()) throw CheckpointError(restored_from + ": trailing bytes");
+      });
       if (writer_) writer_->write_tables(sim_);
       last_checkpoint_ = restored_from;
     } else if (c_.initial_state.settle_time > 0.0) {
@@ -129,11 +131,20 @@ public:
 
   template <class Ar>
   void serialize(Ar& ar) {
-    sim_.serialize(ar, opt_.out_dir);
-    if constexpr (Ar::loading) distribute(); // the rest is read with the processes' exchange
-    ar.io(settle_ke_), ar.io(stepping_), ar.io(frame_);
     bool started = monitor_.has_value();
-    ar.io(started);
+    auto state = [&] {
+      sim_.serialize(ar, opt_.out_dir);
+      ar.io(settle_ke_), ar.io(stepping_), ar.io(frame_);
+      ar.io(started);
+    };
+    if constexpr (Ar::loading) {
+      // Each process reads its own rows: a read that fails on one fails on all before they
+      // distribute (collective); the rest is read with the processes' exchange.
+      agreed<CheckpointError>(state);
+      distribute();
+    } else {
+      state();
+    }
     if (!started) return;
     if (!monitor_) start_output(); // restoring: every process (its figures are then read)
     if (writer_) {
@@ -524,22 +535,19 @@ RunResult restart_run(const RunOptions& opt) {
   std::string errors;
   for (const std::string& path : found) {
     // Rank 0 verifies the checksum; each process then reads only what it keeps (LoadArchive).
-    std::string failure;
-    CheckpointPayload payload;
-    try {
-      payload = open_checkpoint(path, process_rank() == 0);
-    } catch (const CheckpointError& e) {
-      failure = e.what();
-    }
-    if (failure = first_failure(failure); !failure.empty()) {
-      if (opt.log) *opt.log << "talus: skipping " << failure << "\n";
-      errors += "\n  " + failure;
-      continue;
-    }
-    LoadArchive ar(payload);
+    std::optional<LoadArchive> ar;
     int dim = 0;
     std::string file, text;
-    ar.io(dim), ar.io(file), ar.io(text);
+    try {
+      agreed<CheckpointError>([&] {
+        ar.emplace(open_checkpoint(path, process_rank() == 0));
+        ar->io(dim), ar->io(file), ar->io(text);
+      });
+    } catch (const CheckpointError& e) {
+      if (opt.log) *opt.log << "talus: skipping " << e.what() << "\n";
+      errors += std::string("\n  ") + e.what();
+      continue;
+    }
     // The case is the folder's own: its files are the copies in inputs/, wherever the run
     // folder and the original case now are.
     const std::string own_case = opt.out_dir + "/case.toml";
@@ -551,11 +559,13 @@ RunResult restart_run(const RunOptions& opt) {
             "values, ran into this folder): not restarted",
             path, own_case));
     }
-    // (Parsing checks the memory: this machine's processes' slabs, or the whole case.)
-    Case c = parse_case_text(text, own_case, {});
+    // Parsing checks the memory (this machine's processes' slabs, or the whole case), which
+    // may fail on one machine alone.
+    Case c;
+    agreed<CaseError>([&] { c = parse_case_text(text, own_case, {}); });
     c.file = file; // the original case file, for the summary
     if (dim != c.simulation.dimension) throw CheckpointError(path + ": dimension mismatch");
-    return dim == 2 ? run_dim<2>(c, opt, &ar, path) : run_dim<3>(c, opt, &ar, path);
+    return dim == 2 ? run_dim<2>(c, opt, &*ar, path) : run_dim<3>(c, opt, &*ar, path);
   }
   throw CheckpointError(fmt::format("{}: no readable checkpoint:{}", opt.out_dir, errors));
 }

@@ -5,6 +5,7 @@
 // processes, checkpointed mid-way, continues on all of them to the same hash.
 #include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/distributed.hpp"
+#include "talus/parallel/processes.hpp"
 #include "talus/parallel/seed_share.hpp"
 #include "verification/golden_cases.hpp"
 
@@ -285,6 +286,34 @@ TEST(Seeding, OverlapIsOneProcesssErrorOnEveryProcess) {
     shared = e.what();
   }
   EXPECT_EQ(shared, serial);
+}
+
+// A restart's read that fails on one process alone (here the last process's checkpoint bytes
+// are cut short) stops every process with that process's error, before any of them goes on
+// into the collectives that the failing one would never reach.
+TEST(Restart, AReadThatFailsOnOneProcessFailsOnAll) {
+  const std::string file = std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/cohesive_block.toml";
+  const Case c = parse_case_file(file, {});
+  std::string bytes;
+  {
+    Simulation<2> whole(c);
+    SaveArchive ar;
+    whole.serialize(ar, "memory");
+    bytes = ar.bytes();
+  }
+  if (world_rank() == world_size() - 1) bytes.resize(bytes.size() / 2);
+  SharedSeeding<2> seeding = seed_share<2>(c, MPI_COMM_WORLD);
+  Simulation<2> sim(c, std::move(seeding.seeded));
+  LoadArchive in(bytes, "memory");
+  RestoredShare share;
+  choose_slab<2>(in, sim.grid(), sim.setup().normal_smoothing, MPI_COMM_WORLD, share);
+  std::string error;
+  try {
+    agreed<CheckpointError>([&] { sim.serialize(in, "memory"); });
+  } catch (const CheckpointError& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find("memory: corrupt checkpoint"), std::string::npos) << error;
 }
 
 // A grid with fewer cell columns than the processes' slabs need is refused, on every process,

@@ -88,19 +88,18 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::vector<std::
     : sim_(sim), comm_(comm), rebalance_interval_(rebalance_interval), bounds_(std::move(bounds)),
       body_begin_(std::move(body_begin)) {
   init();
-  // Each process checks its own particles; every process stops with the first failure.
+  // The own particles' global indices: a new case's stand in id order, which is one process's.
+  own_index_ = restored_rows ? std::move(*restored_rows) : sim_.particles().id;
+  // Each process checks its own particles, named by their global indices (the share is the own
+  // particles until build_share); every process stops with the first failure.
+  share_index_ = own_index_;
+  share_own_.assign(own_index_.size(), 1);
+  sim_.set_exchange(this);
   check_particles();
   own_ = sim_.take_particles();
-  if (restored_rows) {
-    own_index_ = std::move(*restored_rows);
-    // A restored state's contact nodes: rank 0's to gather, once.
-    if (rank_ != 0) sim_.drop_contact_nodes();
-  } else {
-    // A new case's particles stand in id order, which is one process's order.
-    own_index_ = own_.id;
-  }
   own_.body_begin = body_begin_of(own_index_);
-  sim_.set_exchange(this);
+  // A restored state's contact nodes: rank 0's to gather, once.
+  if (restored_rows && rank_ != 0) sim_.drop_contact_nodes();
   fields_stand_ = false;
   build_share();
   if (!restored_rows) sim_.set_energy_baseline();

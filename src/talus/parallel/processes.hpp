@@ -27,6 +27,19 @@ double node_memory_share(double columns, int ghost_columns_each_side);
 // The failure (a message; empty: none) of the lowest process that has one, on every process.
 // Collective.
 std::string first_failure(const std::string& failure);
+// Runs f on every process; if it throws E on any (a read or a check that may fail on one
+// process alone), every process throws E with the lowest failing process's message, so that
+// none goes on into a collective the others never reach. Collective.
+template <class E, class F>
+void agreed(F&& f) {
+  std::string failure;
+  try {
+    f();
+  } catch (const E& e) {
+    failure = e.what();
+  }
+  if (failure = first_failure(failure); !failure.empty()) throw E(failure);
+}
 
 // Runs f on rank 0 only; a RunFolderError or OutputError it throws is thrown on every process
 // (so that none waits for a process that gave up).
