@@ -213,12 +213,9 @@ private:
 #ifdef TALUS_MPI
     if (process_count() == 1 || dist_) return;
     if (restored_) {
-      std::vector<std::size_t> body_begin{0};
-      for (int b = 0; b < sim_.particles().num_bodies(); ++b)
-        body_begin.push_back(body_begin.back() + sim_.body_particles(b));
       dist_ =
           std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD, std::move(restored_->bounds),
-                                           std::move(body_begin), 200, std::move(restored_->rows));
+                                           sim_.case_body_begin(), 200, std::move(restored_->rows));
       restored_.reset();
     } else {
       dist_ = std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD, std::move(seeded_bounds_),

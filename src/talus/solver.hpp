@@ -152,6 +152,13 @@ public:
   std::size_t case_particles() const { return index_of_id_.size(); }
   // The whole case's particles of body b.
   std::size_t body_particles(int b) const { return body_count_[b]; }
+  // The whole case's body ranges of one process's particle order (from the counts).
+  std::vector<std::size_t> case_body_begin() const {
+    std::vector<std::size_t> begin{0};
+    for (const std::size_t n : body_count_)
+      begin.push_back(begin.back() + n);
+    return begin;
+  }
   // Current index of the particle with stable id `id`.
   std::size_t index_of(std::uint32_t id) const { return index_of_id_[id]; }
   // Stable ids of the case's probes: the particle of the probe's body nearest its point now
@@ -167,9 +174,7 @@ public:
     if constexpr (Ar::loading) {
       // The whole case's body ranges; the particles are all of them, or on several processes
       // this process's slab (LoadArchive::set_choose).
-      std::vector<std::size_t> whole{0};
-      for (const std::size_t n : body_count_)
-        whole.push_back(whole.back() + n);
+      const std::vector<std::size_t> whole = case_body_begin();
       io_expect(ar, whole, "bodies and particle counts", source);
       ar.particles(particles_, whole);
       invalidate_shape();
