@@ -4,19 +4,13 @@
 #include "talus/memory_usage.hpp"
 #include "talus/output/files.hpp"
 #include "talus/parallel/processes.hpp"
+#include "talus/parallel/stepper.hpp"
 #include "talus/run.hpp"
-#include "talus/solver.hpp"
 #include "talus/threads.hpp"
 
 #include <chrono>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#ifdef TALUS_MPI
-#include "talus/parallel/distributed.hpp"
-#include "talus/parallel/seed_share.hpp"
-#include <memory>
-#include <optional>
-#endif
 
 namespace talus {
 
@@ -55,38 +49,19 @@ int run_bench(const BenchOptions& opt) {
     auto measure = [&]<int D>(int threads) {
       reset_peak_rss();
       const double rss_before = read_rss().now;
-      // Under mpirun, each process seeds and steps its slab (parallel/seed_share.hpp,
-      // parallel/distributed.hpp).
-#ifdef TALUS_MPI
-      std::optional<SharedSeeding<D>> seeding;
-      if (process_count() > 1) seeding = seed_share<D>(c, MPI_COMM_WORLD);
-      Simulation<D> sim = seeding ? Simulation<D>(c, std::move(seeding->seeded)) : Simulation<D>(c);
-      std::unique_ptr<Distributed<D>> dist;
-      if (seeding)
-        dist = std::make_unique<Distributed<D>>(sim, MPI_COMM_WORLD, std::move(seeding->bounds),
-                                                std::move(seeding->body_begin));
-      auto steps = [&] { dist ? dist->step() : sim.step(); };
-      auto sync = [&] {
-        if (dist) MPI_Barrier(MPI_COMM_WORLD);
-      };
-#else
-      Simulation<D> sim(c);
-      auto steps = [&sim] { sim.step(); };
-      auto sync = [] {};
-#endif
+      // Under mpirun, each process seeds and steps its slab (parallel/stepper.hpp).
+      const std::unique_ptr<Stepper<D>> stepper = make_stepper<D>(c);
+      stepper->distribute();
+      const Simulation<D>& sim = stepper->sim();
       const double n = static_cast<double>(sim.case_particles());
-      steps(); // warm-up: first sort and field allocation
+      stepper->step(inf); // warm-up: first sort and field allocation
       const PhaseTimes before = sim.phase_times();
-#ifdef TALUS_MPI
-      const double ghost0 = dist ? dist->ghost_bytes_sent() : 0.0;
-      const double migration0 = dist ? dist->migration_bytes_sent() : 0.0;
-      const std::int64_t rebuilds0 = dist ? dist->rebuilds() : 0;
-#endif
-      sync();
+      const ShareCounters share0 = stepper->share_counters().value_or(ShareCounters{});
+      wait_for_processes();
       const auto t0 = std::chrono::steady_clock::now();
       for (int s = 0; s < pb.steps; ++s)
-        steps();
-      sync();
+        stepper->step(inf);
+      wait_for_processes();
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       PhaseTimes T = sim.phase_times();
@@ -99,29 +74,28 @@ int run_bench(const BenchOptions& opt) {
       const Rss rss = read_rss();
       double rise = rss.peak - rss_before, peak = rss.peak;
       nlohmann::json processes = nullptr;
-#ifdef TALUS_MPI
-      if (dist) { // every process's memory; the exchange's bytes per step, summed
-        double figures[5] = {rise, peak, (dist->ghost_bytes_sent() - ghost0) / pb.steps,
-                             (dist->migration_bytes_sent() - migration0) / pb.steps,
-                             static_cast<double>(dist->rebuilds() - rebuilds0)};
-        double ghosts = static_cast<double>(dist->ghost_particles());
-        MPI_Allreduce(MPI_IN_PLACE, figures, 4, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-        MPI_Allreduce(MPI_IN_PLACE, figures + 4, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-        MPI_Allreduce(MPI_IN_PLACE, &ghosts, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+      if (const auto share = stepper->share_counters()) {
+        // Every process's memory, ghosts and exchange bytes per step, summed; the rebuilds' most.
+        double figures[5] = {rise, peak, (share->ghost_bytes - share0.ghost_bytes) / pb.steps,
+                             (share->migration_bytes - share0.migration_bytes) / pb.steps,
+                             share->ghost_particles};
+        double rebuilds = static_cast<double>(share->rebuilds - share0.rebuilds);
+        sum_over_processes(figures, 5);
+        max_over_processes(&rebuilds, 1);
         rise = figures[0], peak = figures[1];
-        processes = {{"processes", dist->size()},
+        const double ghosts = figures[4];
+        processes = {{"processes", share->processes},
                      {"ghost_particles", ghosts},
                      {"ghost_bytes_per_step", figures[2]},
                      {"migration_bytes_per_step", figures[3]},
-                     {"share_rebuilds", figures[4]}};
-        if (dist->rank() == 0)
+                     {"share_rebuilds", rebuilds}};
+        if (process_rank() == 0)
           fmt::print("  {} processes: {:.0f} ghost particles ({:.1f} % of the particles), "
                      "{:.0f} kB of ghosts and {:.0f} B of migration a step; the share merged "
                      "anew after {:.0f} of {} steps (sorts and rebalances aside); {} rebalances\n",
-                     dist->size(), ghosts, 100.0 * ghosts / n, figures[2] / 1e3, figures[3],
-                     figures[4], pb.steps, dist->rebalances());
+                     share->processes, ghosts, 100.0 * ghosts / n, figures[2] / 1e3, figures[3],
+                     rebuilds, pb.steps, share->rebalances);
       }
-#endif
       const double bytes = rise / n, process_bytes = peak / n;
       if (process_rank() == 0)
         fmt::print(

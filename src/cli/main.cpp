@@ -24,9 +24,6 @@
 #include <iostream>
 #include <limits>
 #include <unistd.h>
-#ifdef TALUS_MPI
-#include <mpi.h>
-#endif
 
 namespace {
 
@@ -168,29 +165,12 @@ int run_and_report(F&& go) {
   return 0;
 }
 
-#ifdef TALUS_MPI
-// MPI for the life of the program (one process without mpirun); OpenMP threads run inside each
-// process, and only the main thread calls MPI.
-struct MpiSession {
-  MpiSession(int* argc, char*** argv) {
-    int provided = 0;
-    MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
-    talus::processes_on_this_node(); // collective: here, where every process calls it
-  }
-  ~MpiSession() { MPI_Finalize(); }
-  MpiSession(const MpiSession&) = delete;
-  MpiSession& operator=(const MpiSession&) = delete;
-};
-#endif
-
 } // namespace
 
 int main(int argc, char** argv) {
   talus::share_cores(argv);      // idle OpenMP threads sleep: runs side by side do not collapse
   std::signal(SIGXFSZ, SIG_IGN); // a full file-size limit becomes a write error, not a kill
-#ifdef TALUS_MPI
-  MpiSession mpi(&argc, &argv);
-#endif
+  talus::ProcessSession processes(&argc, &argv); // MPI, in the mpi preset
   CLI::App app{"Talus: multi-body Material Point Method for landslides"};
   app.set_version_flag("--version", std::string("talus ") + talus::version);
   app.require_subcommand(1);

@@ -7,6 +7,7 @@
 #include "talus/output/results_monitor.hpp"
 #include "talus/output/run_writer.hpp"
 #include "talus/parallel/processes.hpp"
+#include "talus/parallel/stepper.hpp"
 #include "talus/solver.hpp"
 #include "talus/threads.hpp"
 
@@ -17,12 +18,9 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <optional>
 #include <unistd.h>
-#ifdef TALUS_MPI
-#include "talus/parallel/distributed.hpp"
-#include "talus/parallel/seed_share.hpp"
-#endif
 
 namespace talus {
 
@@ -36,8 +34,8 @@ extern "C" void on_stop_signal(int sig) {
   stop_signal = sig;
 }
 
-// SIGINT and SIGTERM ask the run to stop after the current step (with a checkpoint); the handler
-// resets itself, so a second Ctrl-C kills at once.
+// SIGINT, SIGTERM and SIGHUP (the terminal closed) ask the run to stop after the current step
+// (with a checkpoint); the handler resets itself, so a second Ctrl-C kills at once.
 class StopSignals {
 public:
   StopSignals() {
@@ -48,10 +46,12 @@ public:
     sa.sa_flags = SA_RESETHAND;
     sigaction(SIGINT, &sa, &old_int_);
     sigaction(SIGTERM, &sa, &old_term_);
+    sigaction(SIGHUP, &sa, &old_hup_);
   }
   ~StopSignals() {
     sigaction(SIGINT, &old_int_, nullptr);
     sigaction(SIGTERM, &old_term_, nullptr);
+    sigaction(SIGHUP, &old_hup_, nullptr);
   }
   StopSignals(const StopSignals&) = delete;
   StopSignals& operator=(const StopSignals&) = delete;
@@ -59,15 +59,19 @@ public:
 private:
   struct sigaction old_int_ {};
   struct sigaction old_term_ {};
+  struct sigaction old_hup_ {};
 };
 
-// A run: the simulation, its settling phase, output at its interval, checkpoints, and what a
-// checkpoint must carry besides the simulation (the run folder's tables, the tracked results).
+// A run: the simulation (on this program's processes: stepper_), its settling phase, output at its
+// interval, checkpoints, and what a checkpoint must carry besides the simulation (the run folder's
+// tables, the tracked results).
 template <int D>
 class Runner {
 public:
-  Runner(const Case& c, const RunOptions& opt, bool restoring)
-      : c_(c), opt_(opt), sim_(start(restoring)), root_(process_rank() == 0) {}
+  // `folder`: the run folder, held by rank 0 (null on the other processes).
+  Runner(const Case& c, const RunOptions& opt, const RunFolder* folder, bool restoring)
+      : c_(c), opt_(opt), folder_(folder), stepper_(make_stepper<D>(c, restoring)),
+        sim_(stepper_->sim()), root_(process_rank() == 0) {}
 
   RunResult run(LoadArchive* restore, const std::string& restored_from) {
     const auto wall0 = wall0_ = Clock::now();
@@ -76,14 +80,7 @@ public:
     RunResult r;
     r.particles = sim_.case_particles();
     if (restore) {
-#ifdef TALUS_MPI
-      // On several processes each process reads its slab of the checkpoint's particles alone.
-      if (process_count() > 1) {
-        restored_.emplace();
-        choose_slab<D>(*restore, sim_.grid(), sim_.setup().normal_smoothing, MPI_COMM_WORLD,
-                       *restored_);
-      }
-#endif
+      stepper_->read_own_slab(*restore); // on several processes, each reads its slab alone
       agreed<CheckpointError>([&] {
         serialize(*restore);
         if (!restore->done()) throw CheckpointError(restored_from + ": trailing bytes");
@@ -93,7 +90,8 @@ public:
     } else if (c_.initial_state.settle_time > 0.0) {
       sim_.set_settling(true);
     }
-    distribute();
+    stepper_->distribute();
+    first_step_ = sim_.steps();
     if (opt_.log)
       *opt_.log << fmt::format(
           "talus: {} particles, {} nodes, {}{} threads -> {}{}\n", r.particles,
@@ -141,7 +139,7 @@ public:
       // Each process reads its own rows: a read that fails on one fails on all before they
       // distribute (collective); the rest is read with the processes' exchange.
       agreed<CheckpointError>(state);
-      distribute();
+      stepper_->distribute();
     } else {
       state();
     }
@@ -162,97 +160,27 @@ private:
   void start_output() {
     std::vector<std::uint32_t> ids = sim_.probe_ids();
     const FrameTotals<D> totals = frame_totals(sim_, ids);
-    on_root([&] {
+    on_rank_zero([&] {
+      check_folder();
       if (!writer_) writer_.emplace(opt_.out_dir, sim_, ids);
     });
     if (!monitor_) monitor_.emplace(sim_, std::move(ids), totals);
-  }
-
-  // Calls f() on rank 0, the process that writes the run folder; an OutputError there is thrown
-  // on every process. Collective.
-  template <class F>
-  void on_root(F&& f) {
-    int failed = 0;
-    std::string error;
-    if (root_) try {
-        f();
-      } catch (const OutputError& e) {
-        failed = 1, error = e.what();
-      }
-#ifdef TALUS_MPI
-    if (process_count() > 1) {
-      MPI_Bcast(&failed, 1, MPI_INT, 0, MPI_COMM_WORLD);
-      int n = static_cast<int>(error.size());
-      MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
-      error.resize(static_cast<std::size_t>(n));
-      MPI_Bcast(error.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
-    }
-#endif
-    if (failed) throw OutputError(error);
-  }
-
-  // On several processes the case is seeded on each process's slab alone (seed_share.hpp); a
-  // restart then replaces those particles with its slab of the checkpoint's. On one process the
-  // whole case is seeded.
-  Simulation<D> start(bool restoring) {
-#ifdef TALUS_MPI
-    if (process_count() > 1) {
-      SharedSeeding<D> s = seed_share<D>(c_, MPI_COMM_WORLD);
-      if (!restoring)
-        seeded_bounds_ = std::move(s.bounds), seeded_body_begin_ = std::move(s.body_begin);
-      return Simulation<D>(c_, std::move(s.seeded));
-    }
-#endif
-    (void)restoring;
-    return Simulation<D>(c_);
-  }
-
-  // On several processes, each process steps its slab of the particles from here on (once: a
-  // restart distributes as soon as the particles are read).
-  void distribute() {
-#ifdef TALUS_MPI
-    if (process_count() == 1 || dist_) return;
-    if (restored_) {
-      dist_ =
-          std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD, std::move(restored_->bounds),
-                                           sim_.case_body_begin(), 200, std::move(restored_->rows));
-      restored_.reset();
-    } else {
-      dist_ = std::make_unique<Distributed<D>>(sim_, MPI_COMM_WORLD, std::move(seeded_bounds_),
-                                               std::move(seeded_body_begin_));
-    }
-#endif
-  }
-
-  // The largest of every process's value (one process: the value).
-  int agree_max(int value) const {
-#ifdef TALUS_MPI
-    if (dist_) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-#endif
-    return value;
   }
 
   // A row in every CSV (forces as time means since the previous row) and a frame.
   // Nothing needs the whole state: the sums are combined, the particles stream to rank 0.
   void write_frame() {
     const FrameTotals<D> totals = frame_totals(sim_, monitor_->probe_ids());
-    std::vector<ContactNodeForce<D>> nodes;
-    LocalOrder local(sim_.particles().size());
-    ParticleOrder* order = &local;
-#ifdef TALUS_MPI
-    if (dist_)
-      order = dist_.get(), nodes = dist_->gather_contact_nodes();
-    else
-#endif
-      nodes = sim_.contact_nodes();
+    on_rank_zero([&] { check_folder(); }); // every process stops before the frame if it went
+    const std::vector<ContactNodeForce<D>> nodes = stepper_->contact_nodes();
     std::string error; // rank 0's, reported once every process has sent its particles
     if (c_.output.particles) try {
         RunWriter<D>::write_particles(root_ ? writer_->next_particle_frame() : std::string(), sim_,
-                                      *order);
+                                      stepper_->particle_order());
       } catch (const OutputError& e) {
         error = e.what();
       }
-    on_root([&] {
+    on_rank_zero([&] {
       if (!error.empty()) throw OutputError(error);
       writer_->write_frame(sim_, totals, nodes);
     });
@@ -276,7 +204,8 @@ private:
     const std::string message =
         last_checkpoint_.empty() ? std::string() : "newest checkpoint: " + last_checkpoint_;
     const nlohmann::json figures = results(totals);
-    on_root([&] {
+    on_rank_zero([&] {
+      check_folder();
       if (writer_)
         writer_->write_summary(sim_, "running", wall, stepping_, threads_, message, figures);
       else
@@ -287,12 +216,7 @@ private:
 
   void timed_step(double dt_limit) {
     const auto t0 = Clock::now();
-#ifdef TALUS_MPI
-    if (dist_)
-      dist_->step(dt_limit);
-    else
-#endif
-      sim_.step(dt_limit);
+    stepper_->step(dt_limit);
     stepping_ += std::chrono::duration<double>(Clock::now() - t0).count();
   }
 
@@ -333,12 +257,7 @@ private:
     if (opt_.log)
       *opt_.log << fmt::format("talus: settled for {} s, kinetic energy {:.4g} J; released\n",
                                c_.initial_state.settle_time, settle_ke_);
-#ifdef TALUS_MPI
-    if (dist_)
-      dist_->release();
-    else
-#endif
-      sim_.release();
+    stepper_->release();
     start_output();
     write_frame();
   }
@@ -367,7 +286,7 @@ private:
   bool after_step(RunResult& r) {
     if (sim_.steps() == opt_.inject_signal_step) std::raise(opt_.inject_signal);
     // Every process stops, and checkpoints, when any one is told to (mpirun passes signals on).
-    const int stop = agree_max(stop_signal);
+    const int stop = max_over_processes(static_cast<int>(stop_signal));
     if (stop) {
       save_checkpoint();
       r.status = "interrupted";
@@ -377,7 +296,7 @@ private:
                               stop, sim_.steps(), sim_.time(), last_checkpoint_, opt_.out_dir);
       return false;
     }
-    if (opt_.max_steps && sim_.steps() >= *opt_.max_steps &&
+    if (opt_.max_steps && sim_.steps() - first_step_ >= *opt_.max_steps &&
         c_.simulation.end_time - sim_.time() > 1e-12 * c_.simulation.end_time) {
       save_checkpoint();
       r.status = "stopped";
@@ -391,9 +310,9 @@ private:
     // By wall time: every wall_minutes, the first after at most first_wall_minutes.
     const double minutes =
         checkpoints_written_ == 0 ? std::min(first_wall_minutes, ck.wall_minutes) : ck.wall_minutes;
-    const bool wall_due = agree_max(
+    const bool wall_due = max_over_processes(static_cast<int>(
         ck.wall_minutes > 0 &&
-        std::chrono::duration<double>(Clock::now() - checkpoint_wall_).count() >= 60.0 * minutes);
+        std::chrono::duration<double>(Clock::now() - checkpoint_wall_).count() >= 60.0 * minutes));
     if (sim_.time() >= checkpoint_time_ - 1e-12 * checkpoint_time_ || wall_due) {
       save_checkpoint();
       checkpoint_time_ = next_checkpoint(ck);
@@ -415,9 +334,7 @@ private:
     const auto t0 = Clock::now();
     const std::string path = checkpoint_path(opt_.out_dir, sim_.steps());
     auto save = [&](SaveArchive& ar) {
-#ifdef TALUS_MPI
-      if (dist_) ar.set_order(dist_.get(), dist_->body_begin());
-#endif
+      stepper_->order_checkpoint(ar);
       int dim = D;
       std::string file = std::filesystem::absolute(c_.file).string(), text = c_.text;
       ar.io(dim), ar.io(file), ar.io(text);
@@ -431,14 +348,23 @@ private:
         SaveArchive sizing(SaveArchive::Mode::count);
         save(sizing);
         bytes = sizing.size();
-        std::error_code ec;
-        std::filesystem::create_directories(opt_.out_dir + "/checkpoints", ec);
-        if (ec)
-          error = fmt::format("{}/checkpoints: cannot create: {}", opt_.out_dir, ec.message());
-        file.emplace(path, bytes);
+        try {
+          check_folder();
+          std::error_code ec;
+          std::filesystem::create_directories(opt_.out_dir + "/checkpoints", ec);
+          if (ec)
+            error = fmt::format("{}/checkpoints: cannot create: {}", opt_.out_dir, ec.message());
+          else
+            file.emplace(path, bytes);
+        } catch (const OutputError& e) {
+          error = e.what();
+        }
       }
+      // Rank 0 writes (failed: drops what the others still send); the others send.
       SaveArchive ar(root_ ? SaveArchive::Mode::save : SaveArchive::Mode::send);
-      if (file) ar.set_sink([&](const char* data, std::size_t n) { file->write(data, n); });
+      ar.set_sink([&](const char* data, std::size_t n) {
+        if (file) file->write(data, n);
+      });
       save(ar);
       if (root_ && error.empty()) try {
           file->finish();
@@ -448,17 +374,9 @@ private:
         }
     };
     // A checkpoint is a good state, or none is written.
-#ifdef TALUS_MPI
-    if (dist_) {
-      dist_->check_particles();
-      dist_->with_whole_tables(write);
-    } else
-#endif
-    {
-      sim_.check_particles();
-      write();
-    }
-    on_root([&] {
+    stepper_->check_particles();
+    stepper_->with_whole_tables(write);
+    on_rank_zero([&] {
       if (!error.empty()) throw OutputError(error);
     });
     last_checkpoint_ = path;
@@ -469,6 +387,11 @@ private:
                                std::chrono::duration<double>(Clock::now() - t0).count());
   }
 
+  // Rank 0: an OutputError if the run folder went away since the run took it.
+  void check_folder() const {
+    if (folder_) folder_->check_still_here();
+  }
+
   void finish(RunResult& r, Clock::time_point wall0, int threads) {
     r.steps = sim_.steps();
     r.simulated_time = sim_.time();
@@ -477,7 +400,8 @@ private:
         stepping_ > 0 ? static_cast<double>(r.particles) * static_cast<double>(r.steps) / stepping_
                       : 0.0;
     const nlohmann::json figures = results();
-    on_root([&] {
+    on_rank_zero([&] {
+      check_folder();
       if (!writer_) writer_.emplace(opt_.out_dir, sim_, std::vector<std::uint32_t>{});
       writer_->write_summary(sim_, r.status, r.wall_seconds, stepping_, threads, r.message,
                              figures);
@@ -486,16 +410,10 @@ private:
 
   const Case& c_;
   const RunOptions& opt_;
-#ifdef TALUS_MPI
-  std::vector<std::int64_t> seeded_bounds_;    // a new case's first slabs (seed_share)
-  std::vector<std::size_t> seeded_body_begin_; // and its body ranges of the ids
-  std::optional<RestoredShare> restored_;      // a restart's slab of the checkpoint
-#endif
-  Simulation<D> sim_;
-  bool root_; // rank 0: the process that writes the run folder
-#ifdef TALUS_MPI
-  std::unique_ptr<Distributed<D>> dist_; // on several processes: this one's slab
-#endif
+  const RunFolder* folder_;
+  std::unique_ptr<Stepper<D>> stepper_; // one process, or this one's slab of several
+  Simulation<D>& sim_;                  // stepper_'s state
+  bool root_;                           // rank 0: the process that writes the run folder
   std::optional<RunWriter<D>> writer_;
   std::optional<ResultsMonitor<D>> monitor_;
   double settle_ke_ = 0.0;
@@ -505,25 +423,30 @@ private:
   Clock::time_point wall0_{}; // the run's (this process's) start
   int threads_ = 1;
   int checkpoints_written_ = 0;         // by this process
+  std::int64_t first_step_ = 0;         // the step this run (or restart) started from
   double checkpoint_time_ = inf;        // the next checkpoint by simulated time
   Clock::time_point checkpoint_wall_{}; // the last checkpoint (or the start) by wall time
 };
 
 template <int D>
-RunResult run_dim(const Case& c, const RunOptions& opt, LoadArchive* restore = nullptr,
-                  const std::string& restored_from = "") {
-  Runner<D> runner(c, opt, restore != nullptr);
+RunResult run_dim(const Case& c, const RunOptions& opt, const std::optional<RunFolder>& folder,
+                  LoadArchive* restore = nullptr, const std::string& restored_from = "") {
+  Runner<D> runner(c, opt, folder ? &*folder : nullptr, restore != nullptr);
   return runner.run(restore, restored_from);
 }
 
 } // namespace
 
 RunResult run_case(const Case& c, const RunOptions& opt) {
-  on_rank_zero([&] { prepare_run_inputs(c, opt.out_dir, opt.overwrite); });
-  return c.simulation.dimension == 2 ? run_dim<2>(c, opt) : run_dim<3>(c, opt);
+  std::optional<RunFolder> folder; // rank 0's, held to the end of the run
+  on_rank_zero([&] { folder.emplace(prepare_run_inputs(c, opt.out_dir, opt.overwrite)); });
+  return c.simulation.dimension == 2 ? run_dim<2>(c, opt, folder) : run_dim<3>(c, opt, folder);
 }
 
 RunResult restart_run(const RunOptions& opt) {
+  std::optional<RunFolder> folder; // rank 0's: no other run writes the folder meanwhile
+  if (std::filesystem::is_directory(opt.out_dir))
+    on_rank_zero([&] { folder.emplace(opt.out_dir, RunFolder::Use::restart); });
   const auto found = list_checkpoints(opt.out_dir);
   if (found.empty())
     throw CheckpointError(fmt::format("{}: no checkpoint to restart from (looked in "
@@ -562,7 +485,8 @@ RunResult restart_run(const RunOptions& opt) {
     agreed<CaseError>([&] { c = parse_case_text(text, own_case, {}); });
     c.file = file; // the original case file, for the summary
     if (dim != c.simulation.dimension) throw CheckpointError(path + ": dimension mismatch");
-    return dim == 2 ? run_dim<2>(c, opt, &*ar, path) : run_dim<3>(c, opt, &*ar, path);
+    return dim == 2 ? run_dim<2>(c, opt, folder, &*ar, path)
+                    : run_dim<3>(c, opt, folder, &*ar, path);
   }
   throw CheckpointError(fmt::format("{}: no readable checkpoint:{}", opt.out_dir, errors));
 }

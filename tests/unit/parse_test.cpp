@@ -226,7 +226,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"nan", "end_time = 1.0", "end_time = nan",
                 "simulation.end_time: must be a finite number"},
         BadCase{"missing_polygon_file", "box = { min = [0, 0], max = [1, 0.5] }",
-                "polygon = \"no_such.csv\"", "no_such.csv: cannot open the polygon file"},
+                "polygon = \"no_such.csv\"", "no_such.csv: no such file"},
         BadCase{"unknown_section", "[output]", "[outptu]",
                 "outptu: unknown key (did you mean 'output'?)"},
         BadCase{"run_set_not_strings", "[output]", "[[run]]\nset = [1]\n[output]",

@@ -384,7 +384,7 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
   expect_refused(terrain(fmt::format("top = 30.0, bottom = '{0}/one_cell.asc'", dir)),
                  {"one_cell.asc", "1 x 1 cells", "at least 2 x 2"});
   expect_refused(terrain(fmt::format("top = '{0}/missing.tif', bottom = 2.0", dir)),
-                 {"missing.tif", "cannot read it as a raster"});
+                 {"missing.tif", "missing.tif: no such file"});
   expect_refused(terrain(fmt::format("top = '{0}/crossing.asc', bottom = 20.0", dir)),
                  {"bottom (20 m) is above its top (10 m)", "crossing.asc", "row", "column"}, true);
   expect_refused(terrain("top = 10.0, bottom = 2.0"), {"need a footprint"});

@@ -1,8 +1,43 @@
 #include "talus/case/input_files.hpp"
 
+#include "talus/case/parse.hpp"
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fmt/format.h>
+#include <fstream>
+#include <sys/stat.h>
 
 namespace talus::case_reading {
+
+void check_input_file(const std::string& path, std::uintmax_t max_bytes) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw CaseError(errno == ENOENT
+                        ? fmt::format("{}: no such file", path)
+                        : fmt::format("{}: cannot read the file: {}", path, std::strerror(errno)));
+  if (S_ISDIR(st.st_mode)) throw CaseError(fmt::format("{}: is a folder, not a file", path));
+  if (!S_ISREG(st.st_mode))
+    throw CaseError(fmt::format("{}: is not a regular file (a device, FIFO or socket): talus "
+                                "reads only files it can copy into the run folder",
+                                path));
+  if (static_cast<std::uintmax_t>(st.st_size) > max_bytes)
+    throw CaseError(fmt::format("{}: is {:.3g} GB, more than the {:.3g} GB talus reads as this "
+                                "kind of input",
+                                path, static_cast<double>(st.st_size) / 1e9,
+                                static_cast<double>(max_bytes) / 1e9));
+  std::ifstream in(path, std::ios::binary);
+  char head[64] = {};
+  in.read(head, sizeof head - 1);
+  const std::string_view start(head, static_cast<std::size_t>(in.gcount()));
+  const auto tag = start.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
+  if (tag != std::string_view::npos && start.substr(tag).starts_with("<VRTDataset"))
+    throw CaseError(fmt::format(
+        "{}: is a GDAL virtual raster (VRT), whose sources a run folder cannot copy: write it "
+        "as one file first (gdal_translate {} dem.tif)",
+        path, path));
+}
 
 std::string InputFiles::resolve(const std::string& written) {
   namespace fs = std::filesystem;

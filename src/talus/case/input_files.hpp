@@ -3,6 +3,7 @@
 // copies.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -18,6 +19,15 @@ struct InputFile {
 };
 
 namespace case_reading {
+
+// The largest input a case may read: a polygon CSV, and a raster or vector file.
+inline constexpr std::uintmax_t max_polygon_csv_bytes = std::uintmax_t{256} << 20;
+inline constexpr std::uintmax_t max_input_bytes = std::uintmax_t{16} << 30;
+
+// Throws CaseError unless `path` is a regular file (a link to one counts) of at most max_bytes
+// that a run folder can copy whole: no device, FIFO or folder (a read that never ends), and no
+// GDAL virtual raster (VRT), whose sources lie elsewhere or on the network.
+void check_input_file(const std::string& path, std::uintmax_t max_bytes);
 
 // Resolves the file names a case writes. Each [[run]] entry's `files` table renames a file
 // (written name -> name read), in order; the result is relative to the case file's folder.

@@ -96,7 +96,9 @@ std::vector<std::array<double, 2>> read_polygon(TableReader& r, const std::strin
     if (written.empty()) r.fail(key, "the file name is empty");
     file = files.resolve(written);
     try {
-      if (is_csv(written) || !crs) {
+      const bool csv = is_csv(written) || !crs;
+      check_input_file(file, csv ? max_polygon_csv_bytes : max_input_bytes);
+      if (csv) {
         v = read_polygon_csv(file);
         if (shift)
           for (auto& p : v)
@@ -136,6 +138,7 @@ TerrainSurface read_surface(TableReader& t, const std::string& key, bool bottom,
     files.add_sidecars(path);
     s.kind = TerrainSurface::Kind::raster;
     try {
+      check_input_file(path, max_input_bytes);
       s.raster = read_raster(path, origin);
     } catch (const CaseError& e) {
       t.fail(key, e.what());
@@ -290,6 +293,21 @@ Geometry read_geometry(TableReader& r, int dim, InputFiles& files, const Vec3a& 
 
 } // namespace case_reading
 
+namespace {
+// What a bad CSV line's error says of it: a short line of printable characters (a typo, a
+// header) is quoted; any other is not, so that no more of another file than a short line (no
+// secret, binary byte or terminal escape sequence) reaches the terminal.
+std::string what_the_line_holds(const std::string& line) {
+  constexpr std::size_t longest = 24;
+  const bool printable = std::all_of(line.begin(), line.end(), [](char c) {
+    return static_cast<unsigned char>(c) >= 0x20 && static_cast<unsigned char>(c) < 0x7f;
+  });
+  return printable && line.size() <= longest
+             ? ", got '" + line + "'"
+             : fmt::format(" (the line, {} characters, is not quoted)", line.size());
+}
+} // namespace
+
 std::vector<std::array<double, 2>> read_polygon_csv(const std::string& path) {
   std::ifstream in(path);
   if (std::filesystem::is_directory(path))
@@ -320,8 +338,8 @@ std::vector<std::array<double, 2>> read_polygon_csv(const std::string& path) {
         seen_header = true;
         continue;
       }
-      throw CaseError(
-          fmt::format("{}:{}: expected two numbers 'x,y', got '{}'", path, lineno, line));
+      throw CaseError(fmt::format("{}:{}: expected two numbers 'x,y'{}", path, lineno,
+                                  what_the_line_holds(line)));
     }
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
       throw CaseError(fmt::format("{}:{}: coordinates must be finite", path, lineno));

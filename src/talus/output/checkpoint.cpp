@@ -186,8 +186,14 @@ std::vector<std::string> list_checkpoints(const std::string& run_dir) {
   std::vector<std::string> found;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(run_dir + "/checkpoints", ec)) {
+    // Only regular files talus could have written: a folder, link or FIFO named like a
+    // checkpoint is neither read (a FIFO would block) nor counted or deleted by pruning.
     const std::string name = e.path().filename().string();
-    if (name.starts_with("step_") && name.ends_with(".ckpt")) found.push_back(e.path().string());
+    const std::string digits = name.size() == 20 ? name.substr(5, 10) : std::string();
+    if (name.starts_with("step_") && name.ends_with(".ckpt") && !digits.empty() &&
+        digits.find_first_not_of("0123456789") == std::string::npos &&
+        e.symlink_status(ec).type() == fs::file_type::regular)
+      found.push_back(e.path().string());
   }
   std::sort(found.rbegin(), found.rend()); // zero-padded step numbers: newest first
   return found;

@@ -21,9 +21,26 @@ void write_file_atomic(const std::string& path, std::initializer_list<std::strin
   file.commit();
 }
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp") {
-  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw OutputError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+std::string create_new_file(const std::string& path, int& fd, unsigned mode) {
+  constexpr int tries = 100;
+  for (int k = 0; k < tries; ++k) {
+    const std::string name = k == 0 ? path : fmt::format("{}.{}", path, k);
+    fd = ::open(name.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, mode);
+    if (fd >= 0) return name;
+    if (errno != EEXIST) break;
+  }
+  throw OutputError(
+      fmt::format("{}: cannot write: {}", path,
+                  errno == EEXIST ? "every temporary name is taken" : std::strerror(errno)));
+}
+
+AtomicFile::AtomicFile(std::string path, unsigned mode) : path_(std::move(path)) {
+  try {
+    tmp_ = create_new_file(path_ + ".tmp", fd_, mode);
+  } catch (const OutputError& e) { // named by the file it stands for
+    const std::string what = e.what();
+    throw OutputError(path_ + what.substr(what.find(": cannot write")));
+  }
 }
 
 AtomicFile::~AtomicFile() {
@@ -72,38 +89,6 @@ void AtomicFile::commit() {
     ::fsync(dfd);
     ::close(dfd);
   }
-}
-
-void prepare_run_folder(const std::string& dir, bool overwrite) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(dir, ec)) return;
-  if (!fs::is_directory(dir, ec))
-    throw RunFolderError(fmt::format("{}: exists and is not a folder: give another --out", dir));
-  if (fs::is_empty(dir, ec)) return;
-  const bool has_checkpoints = fs::exists(dir + "/checkpoints", ec);
-  const bool run_folder = has_checkpoints || fs::exists(dir + "/case.toml", ec) ||
-                          fs::exists(dir + "/summary.json", ec);
-  if (!run_folder)
-    throw RunFolderError(fmt::format(
-        "{}: the folder holds files that are not a talus run folder's (no case.toml, "
-        "summary.json or checkpoints/): give another --out; it is not emptied, even with "
-        "--overwrite",
-        dir));
-  if (!overwrite)
-    throw RunFolderError(fmt::format(
-        "{}: the folder holds an earlier run: give another --out, or --overwrite to empty it "
-        "first{}",
-        dir,
-        has_checkpoints ? fmt::format(", or talus run --restart {} to continue that run", dir)
-                        : std::string()));
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    fs::remove_all(entry.path(), ec);
-    if (ec)
-      throw OutputError(fmt::format("{}: cannot empty the run folder: {}: {}", dir,
-                                    entry.path().string(), ec.message()));
-  }
-  if (ec) throw OutputError(fmt::format("{}: cannot list the run folder: {}", dir, ec.message()));
 }
 
 } // namespace talus

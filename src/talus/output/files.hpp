@@ -20,18 +20,18 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-// Makes `dir` ready for a fresh run: it may be absent or empty; with `overwrite`, an earlier
-// run's folder (it holds case.toml, summary.json or checkpoints/) is emptied first. Anything else
-// throws RunFolderError naming the folder, so that a run never mixes its files with another's
-// and --overwrite never empties a folder that talus did not make.
-void prepare_run_folder(const std::string& dir, bool overwrite);
+// Creates a new file for writing at `path` or, if that name is taken (a temporary left by a
+// killed run, or a link someone planted), at path.1, path.2, ...: exclusively, never through a
+// link. Returns the name used and sets fd; throws OutputError naming `path` if none can be made.
+std::string create_new_file(const std::string& path, int& fd, unsigned mode = 0644);
 
 // A file written in pieces that replaces `path` only at commit(): until then its content is in
-// path + ".tmp", which the destructor removes if commit() was not reached. Errors throw
+// a new temporary beside it (path + ".tmp", create_new_file), which the destructor removes if
+// commit() was not reached. `mode`: the file's permissions (less the umask). Errors throw
 // OutputError naming the file and the reason.
 class AtomicFile {
 public:
-  explicit AtomicFile(std::string path);
+  explicit AtomicFile(std::string path, unsigned mode = 0644);
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
   ~AtomicFile();

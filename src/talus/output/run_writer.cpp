@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <iterator>
+#include <sys/stat.h>
 
 namespace talus {
 
@@ -257,24 +258,28 @@ void RunWriter<D>::write_summary(const Simulation<D>& sim, const std::string& st
   write_file_atomic(dir_ + "/summary.json", j.dump(2) + "\n");
 }
 
-void prepare_run_inputs(const Case& c, const std::string& dir, bool overwrite) {
+RunFolder prepare_run_inputs(const Case& c, const std::string& dir, bool overwrite) {
   std::vector<std::string> inputs;
+  std::vector<unsigned> modes;
   for (const InputFile& f : c.inputs) {
     std::ifstream in(f.source, std::ios::binary);
     if (!in) throw OutputError(fmt::format("{}: cannot read the case's input file", f.source));
     inputs.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    struct stat st {};
+    modes.push_back(::stat(f.source.c_str(), &st) == 0 ? st.st_mode & 07777u : 0644u);
   }
-  prepare_run_folder(dir, overwrite);
+  RunFolder folder(dir, overwrite ? RunFolder::Use::overwrite : RunFolder::Use::fresh);
   if (!c.inputs.empty()) {
     std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec)
-      throw OutputError(fmt::format("{}: cannot create the run folder: {}", dir, ec.message()));
     std::filesystem::create_directories(dir + "/inputs", ec);
     if (ec) throw OutputError(fmt::format("{}/inputs: cannot create: {}", dir, ec.message()));
   }
-  for (std::size_t i = 0; i < c.inputs.size(); ++i)
-    write_file_atomic(dir + "/" + c.inputs[i].copy, inputs[i]);
+  for (std::size_t i = 0; i < c.inputs.size(); ++i) {
+    AtomicFile copy(dir + "/" + c.inputs[i].copy, modes[i]);
+    copy.write(inputs[i]);
+    copy.commit();
+  }
+  return folder;
 }
 
 template class RunWriter<2>;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "talus/output/frame_totals.hpp"
+#include "talus/output/run_folder.hpp"
 #include "talus/output/vtu.hpp"
 #include "talus/solver.hpp"
 
@@ -12,10 +13,11 @@
 
 namespace talus {
 
-// The run folder `dir` made ready for a fresh run (prepare_run_folder), with the case's input
-// files copied into its inputs/, read before the folder is emptied (the case may be an earlier
-// run's own case.toml, run again into its folder with --overwrite).
-void prepare_run_inputs(const Case& c, const std::string& dir, bool overwrite);
+// The run folder `dir` taken for a fresh run (RunFolder: held until the returned object goes),
+// with the case's input files copied into its inputs/ (with their permissions), read before the
+// folder is emptied (the case may be an earlier run's own case.toml, run again into its folder
+// with --overwrite).
+RunFolder prepare_run_inputs(const Case& c, const std::string& dir, bool overwrite);
 
 template <int D>
 class RunWriter {

@@ -27,11 +27,11 @@ class Appended {
 public:
   Appended() = default;
   explicit Appended(const std::string& scratch) : to_file_(true) {
-    fd_ = ::open(scratch.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-    if (fd_ < 0)
-      error_ = fmt::format("cannot write {}: {}", scratch, std::strerror(errno));
-    else
-      ::unlink(scratch.c_str());
+    try {
+      ::unlink(create_new_file(scratch, fd_, 0600).c_str()); // nothing left behind
+    } catch (const OutputError& e) {
+      error_ = e.what();
+    }
   }
   Appended(const Appended&) = delete;
   Appended& operator=(const Appended&) = delete;

@@ -51,6 +51,31 @@ std::string first_failure(const std::string& failure) {
                        failure);
 }
 
+void max_over_processes(double* values, int n) {
+  if (process_count() > 1)
+    MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+}
+int max_over_processes(int value) {
+  if (process_count() > 1) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return value;
+}
+void sum_over_processes(double* values, int n) {
+  if (process_count() > 1)
+    MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+}
+void wait_for_processes() {
+  if (process_count() > 1) MPI_Barrier(MPI_COMM_WORLD);
+}
+
+ProcessSession::ProcessSession(int* argc, char*** argv) {
+  int provided = 0;
+  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+  processes_on_this_node(); // collective: here, where every process calls it
+}
+ProcessSession::~ProcessSession() {
+  MPI_Finalize();
+}
+
 void on_rank_zero(const std::function<void()>& f) {
   if (process_count() == 1) return f();
   int kind = 0; // 1: RunFolderError, 2: OutputError
@@ -85,6 +110,14 @@ int processes_on_this_node() {
 std::string first_failure(const std::string& failure) {
   return failure;
 }
+void max_over_processes(double*, int) {}
+int max_over_processes(int value) {
+  return value;
+}
+void sum_over_processes(double*, int) {}
+void wait_for_processes() {}
+ProcessSession::ProcessSession(int*, char***) {}
+ProcessSession::~ProcessSession() = default;
 void on_rank_zero(const std::function<void()>& f) {
   f();
 }

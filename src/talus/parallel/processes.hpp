@@ -41,6 +41,25 @@ void agreed(F&& f) {
   if (failure = first_failure(failure); !failure.empty()) throw E(failure);
 }
 
+// The largest of every process's values, in place, on every process (one process: as they are).
+// Collective.
+void max_over_processes(double* values, int n);
+int max_over_processes(int value);
+// The sums of every process's values, in place, on every process. Collective.
+void sum_over_processes(double* values, int n);
+// Returns when every process has called it. Collective.
+void wait_for_processes();
+
+// The program's processes for its lifetime: MPI started (with funnelled threads: OpenMP runs
+// inside each process and only the main thread calls MPI) and stopped; nothing without MPI.
+class ProcessSession {
+public:
+  ProcessSession(int* argc, char*** argv);
+  ~ProcessSession();
+  ProcessSession(const ProcessSession&) = delete;
+  ProcessSession& operator=(const ProcessSession&) = delete;
+};
+
 // Runs f on rank 0 only; a RunFolderError or OutputError it throws is thrown on every process
 // (so that none waits for a process that gave up).
 void on_rank_zero(const std::function<void()>& f);
