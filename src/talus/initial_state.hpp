@@ -1,4 +1,4 @@
-// The stress a run starts from (ARCHITECTURE.md: the slide starts from a geostatic state).
+// The stress a run starts from (a slide starts from a geostatic state).
 #pragma once
 
 #include "talus/case/case.hpp"

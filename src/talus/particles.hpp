@@ -1,6 +1,7 @@
 // Particles<D>: plain structure-of-arrays state, stored contiguously by body: body b owns the
 // index range [body_begin[b], body_begin[b+1]). Every per-particle array is listed in
-// for_each_array, so sorting, checkpoints and future MPI migration see all state (no hidden state).
+// for_each_array, so sorting, checkpoints and the processes' exchange see all state (no hidden
+// state).
 #pragma once
 
 #include "talus/math.hpp"

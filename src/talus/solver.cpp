@@ -9,8 +9,7 @@
 
 namespace talus {
 
-using detail::Clock;
-using detail::seconds_since;
+using detail::timed;
 
 template <int D>
 Simulation<D>::Simulation(const Case& c) : Simulation(c, seed_case<D>(c)) {}
@@ -81,46 +80,37 @@ void Simulation<D>::set_energy_baseline() {
 
 // One explicit step (docs/architecture.md, "One time step"): one phase per line, with the
 // scheme's hooks for the stress update (USF first, USL last from v^{n+1}, MUSL last from the
-// velocity re-mapped from the updated particles).
+// velocity re-mapped from the updated particles). Each line starts with its phase's timer, a
+// temporary that adds the line's wall time to that phase when the line ends.
 template <int D>
 void Simulation<D>::step(double dt_limit) {
   using F = BodyField<D>;
   auto& T = phase_times_;
-  auto timed = [](double& acc, auto&& phase) {
-    const auto t = Clock::now();
-    phase();
-    acc += seconds_since(t);
-  };
   const Scheme scheme = setup_.scheme;
-  timed(T.other, [&] { begin_step(dt_limit); });                        // dt, sort, bins, boxes
-  timed(T.p2g, [&] { map_particles_to_nodes(scheme != Scheme::usf); }); // eq. 14-18, 30
-  exchange_node_halos();
-  timed(T.grid, [&] { compute_node_velocities(), apply_velocity_conditions(&F::v); }); // eq. 19
+  timed(T.other), begin_step(dt_limit);                        // dt, sort, bins, boxes
+  timed(T.p2g), map_particles_to_nodes(scheme != Scheme::usf); // eq. 14-18, 30
+  timed(T.grid), compute_node_velocities(), apply_velocity_conditions(&F::v); // eq. 19
   if (scheme == Scheme::usf) { // stress first, from the velocity of the mapped momentum
-    timed(T.contact, [&] { apply_contact(&F::v, dt_, false), apply_velocity_conditions(&F::v); });
-    exchange_particle_halos();
-    timed(T.stress, [&] { update_stress(&F::v, dt_); }); // eq. 24-28
-    timed(T.p2g, [&] { map_forces_to_nodes(); });        // eq. 17-18
-    exchange_node_halos();
-    timed(T.grid, [&] { compute_node_velocities(), apply_velocity_conditions(&F::v); });
+    timed(T.contact), apply_contact(&F::v, dt_, false), apply_velocity_conditions(&F::v);
+    timed(T.stress), update_stress(&F::v, dt_); // eq. 24-28
+    timed(T.p2g), map_forces_to_nodes();        // eq. 17-18
+    timed(T.grid), compute_node_velocities(), apply_velocity_conditions(&F::v);
   }
-  timed(T.grid, [&] { integrate_node_forces(dt_), apply_velocity_conditions(&F::v_new); }); // 20
-  timed(T.contact, [&] { // eq. 31-37
-    apply_contact(&F::v_new, dt_, true), apply_velocity_conditions(&F::v_new);
-  });
-  exchange_particle_halos();
+  timed(T.grid), integrate_node_forces(dt_), apply_velocity_conditions(&F::v_new); // eq. 20
+  // Eq. 31-37: contact on v^{n+1}, recorded (forces, work, contact nodes, slip rates).
+  timed(T.contact), apply_contact(&F::v_new, dt_, true), apply_velocity_conditions(&F::v_new);
   if (scheme == Scheme::musl) { // eq. 22-23, then the re-map and the stress from it
-    timed(T.g2p, [&] { update_particles_and_remap(dt_), apply_velocity_conditions(&F::v_remap); });
-    timed(T.contact,
-          [&] { apply_contact(&F::v_remap, dt_, false), apply_velocity_conditions(&F::v_remap); });
-    timed(T.stress, [&] { update_stress(&F::v_remap, dt_); });
+    timed(T.g2p), update_particles_and_remap(dt_), apply_velocity_conditions(&F::v_remap);
+    timed(T.contact), apply_contact(&F::v_remap, dt_, false);
+    timed(T.contact), apply_velocity_conditions(&F::v_remap);
+    timed(T.stress), update_stress(&F::v_remap, dt_);
   } else {
-    timed(T.g2p, [&] { update_particles(dt_); });                                       // eq. 22-23
-    if (scheme == Scheme::usl) timed(T.stress, [&] { update_stress(&F::v_new, dt_); }); // 24-28
+    timed(T.g2p), update_particles(dt_);                                       // eq. 22-23
+    if (scheme == Scheme::usl) timed(T.stress), update_stress(&F::v_new, dt_); // eq. 24-28
   }
-  timed(T.other, [&] { update_interface_history(dt_); }); // eq. 38-39
+  timed(T.other), update_interface_history(dt_); // eq. 38-39
   // Orphans change over thousands of steps: every tenth step's masses and weights decide them.
-  if (steps_ % orphan_interval == 0) timed(T.other, [&] { update_orphans(); });
+  if (steps_ % orphan_interval == 0) timed(T.other), update_orphans();
   end_step();
 }
 

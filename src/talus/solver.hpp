@@ -1,8 +1,8 @@
 // Simulation<D>: the state of a run and its explicit time step (docs/architecture.md).
 // Each body has its own velocity field (multi-velocity-field contact, paper section 2.3). What
-// is fixed for the run is in setup_ (setup.hpp); the phases of step() live in the files named
-// after them (transfer, grid_update, contact_pass, interface_history, orphans, time_step,
-// particle_check).
+// is fixed for the run is in setup_ (setup.hpp); the phases of step() live in solver/, a file per
+// equation group (particle_order, field_boxes, p2g, grid_update, contact_pass, g2p,
+// stress_update, interface_history, orphans, time_step, particle_check).
 #pragma once
 
 #include "talus/case/case.hpp"
@@ -246,7 +246,6 @@ public:
   void fit_body_fields();
   void map_particles_to_nodes(bool with_forces);
   void map_forces_to_nodes();
-  void exchange_node_halos() {} // one process: every node's sums are complete already
   void compute_node_velocities();
   void integrate_node_forces(double dt);
   void apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*velocity);
@@ -255,7 +254,6 @@ public:
   void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, bool record);
   // Body b's geometric normal at node g, cached for a body whose geometry stays put.
   Vec<D> geometric_normal(int b, const Index<D>& g);
-  void exchange_particle_halos() {} // one process: every particle's nodes are here
   // G2P of the velocity and position (eq. 22-23), from v and v_new.
   void update_particles(double dt);
   // MUSL's particle update and momentum re-map in one coloured pass, then the re-mapped velocity.

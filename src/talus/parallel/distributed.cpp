@@ -3,6 +3,7 @@
 #include "talus/parallel/arrays.hpp"
 #include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/seed_share.hpp"
+#include "talus/particle_sort.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -438,17 +439,8 @@ void Distributed<D>::migrate() {
 // processes before this one (whose cells all come first) plus its place here.
 template <int D>
 void Distributed<D>::sort_own() {
-  const Grid<D>& G = sim_.grid();
   const int B = static_cast<int>(body_begin_.size()) - 1;
-  std::vector<std::int64_t> key(own_index_.size());
-  for (std::size_t p = 0; p < key.size(); ++p)
-    key[p] = G.cell_index(G.cell_of(own_.x[p]));
-  std::vector<std::uint32_t> order(key.size());
-  std::iota(order.begin(), order.end(), 0u);
-  for (int b = 0; b < B; ++b)
-    std::stable_sort(order.begin() + own_.body_begin[b], order.begin() + own_.body_begin[b + 1],
-                     [&](std::uint32_t i, std::uint32_t j) { return key[i] < key[j]; });
-  own_.for_each_array([&](auto& a) { reorder(a, order); });
+  apply_order(own_, order_by_cell(sim_.grid(), own_.x, own_.body_begin));
   std::vector<std::int64_t> count(B), before(B, 0);
   for (int b = 0; b < B; ++b)
     count[b] = static_cast<std::int64_t>(own_.body_begin[b + 1] - own_.body_begin[b]);

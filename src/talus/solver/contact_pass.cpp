@@ -1,4 +1,4 @@
-// The contact pass (ARCHITECTURE.md step 5, eq. 29-37): at every node two or more bodies share,
+// The contact pass (eq. 29-37): at every node two or more bodies share,
 // the node as the contact law sees it, each body's friction and bond there, the law, and with
 // `record` the forces, work, contact nodes and interface slip rates it leaves behind.
 #include "talus/case/geometry.hpp"

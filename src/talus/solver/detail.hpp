@@ -15,6 +15,23 @@ inline double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// Adds the wall time from its making to its end to `seconds`: timed(T.p2g), phase(); times the
+// phase (the temporary ends with the full expression).
+class PhaseTimer {
+public:
+  explicit PhaseTimer(double& seconds) : seconds_(seconds), t0_(Clock::now()) {}
+  PhaseTimer(const PhaseTimer&) = delete;
+  PhaseTimer& operator=(const PhaseTimer&) = delete;
+  ~PhaseTimer() { seconds_ += seconds_since(t0_); }
+
+private:
+  double& seconds_;
+  Clock::time_point t0_;
+};
+inline PhaseTimer timed(double& seconds) {
+  return PhaseTimer(seconds);
+}
+
 // Records the smallest bad particle index seen by any thread. With an exchange only this
 // process's own particles count: a ghost near the share's edge reads nodes that lack particles
 // only other processes hold, and is dropped after the step; its owner checks the real one.

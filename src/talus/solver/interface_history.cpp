@@ -1,4 +1,4 @@
-// The interface history (ARCHITECTURE.md step 9, paper eq. 38-39): each interface particle's
+// The interface history (paper eq. 38-39): each interface particle's
 // slip grows by the slip rate the recorded contact pass measured at its nodes, and its cohesion
 // and friction follow their degradation curves.
 #include "talus/solver.hpp"

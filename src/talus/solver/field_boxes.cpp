@@ -1,0 +1,83 @@
+// Each body's field box: the nodes its particles (and the orphans it hosts) reach this step.
+#include "talus/interface.hpp"
+#include "talus/solver.hpp"
+#include "talus/solver/detail.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+#include <numeric>
+#include <variant>
+
+namespace talus {
+
+// Reads the positions and the particles' fields; writes each body's field box and clears it.
+// Each body's field covers the nodes its particles and the orphans it hosts reach (GIMP: one
+// cell beyond the particle's cell on each side), refitted and cleared every step.
+template <int D>
+void Simulation<D>::fit_body_fields() {
+  const auto& P = particles_;
+  const int B = P.num_bodies();
+  std::vector<double>& bounds = box_bounds_; // B x D minima, then B x D maxima
+  bounds.resize(2 * B * D);
+  double* lo_ = bounds.data();
+  double* hi_ = bounds.data() + B * D;
+  for (int b = 0; b < B; ++b) {
+    if (field_held_[b]) continue;
+    double l[D], h[D];
+    std::fill_n(l, D, inf), std::fill_n(h, D, -inf);
+    const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+#pragma omp parallel for schedule(static) reduction(min : l[:D]) reduction(max : h[:D])
+    for (std::int64_t p = begin; p < end; ++p)
+      for (int d = 0; d < D; ++d)
+        l[d] = std::min(l[d], P.x[p][d]), h[d] = std::max(h[d], P.x[p][d]);
+    std::copy_n(l, D, lo_ + b * D), std::copy_n(h, D, hi_ + b * D);
+  }
+  // The orphans (a handful, if any) stretch their hosts' boxes.
+  for (int b = 0; b < B; ++b) {
+    const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+#pragma omp parallel for schedule(static) reduction(min : lo_[:B * D]) reduction(max : hi_[:B * D])
+    for (std::int64_t p = begin; p < end; ++p)
+      if (const int f = P.field[p]; f != b)
+        for (int d = 0; d < D; ++d) {
+          lo_[f * D + d] = std::min(lo_[f * D + d], P.x[p][d]);
+          hi_[f * D + d] = std::max(hi_[f * D + d], P.x[p][d]);
+        }
+  }
+  // The nodes [cell(lo) - 1, cell(hi) + 3) hold the support of every point in [lo, hi].
+  auto node_range = [&](const double* lo, const double* hi, Index<D>& first, Index<D>& last) {
+    first = grid_.cell_of(Eigen::Map<const Vec<D>>(lo));
+    last = grid_.cell_of(Eigen::Map<const Vec<D>>(hi));
+    for (int d = 0; d < D; ++d) {
+      first[d] = std::clamp<std::int64_t>(first[d] - 1, 0, grid_.nodes[d]);
+      last[d] = std::clamp<std::int64_t>(last[d] + 3, 0, grid_.nodes[d]);
+    }
+  };
+  // On several processes each frame spans every process's particles: the frames, and with them
+  // the shape weights (relative to the frame) and the contact rows, are one process's. Each
+  // process stores the part of the frame its own and ghost particles reach.
+  std::vector<double>& mine = box_bounds_local_;
+  mine.assign(bounds.begin(), bounds.end());
+  if (exchange_) exchange_->min_max(lo_, hi_, B * D);
+  for (int b = 0; b < B; ++b) {
+    if (field_held_[b]) continue; // its box and sums stand
+    Index<D> frame_first, frame_last, first, last;
+    node_range(lo_ + b * D, hi_ + b * D, frame_first, frame_last);
+    const double *l = mine.data() + b * D, *h = mine.data() + (B + b) * D;
+    if (!exchange_)
+      first = frame_first, last = frame_last;
+    else if (l[0] <= h[0]) // the process holds particles of the body
+      node_range(l, h, first, last);
+    else
+      first = last = frame_first; // none: one empty node
+    fields_[b].fit(grid_, frame_first, frame_last, first, last);
+  }
+}
+
+#define TALUS_INSTANTIATE(D) template void Simulation<D>::fit_body_fields();
+TALUS_INSTANTIATE(2)
+TALUS_INSTANTIATE(3)
+
+} // namespace talus

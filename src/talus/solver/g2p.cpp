@@ -1,0 +1,105 @@
+// G2P: the particles' velocity and position from their field (eq. 22-23), and MUSL's re-map of
+// the updated particles' momentum back onto the nodes.
+#include "talus/interface.hpp"
+#include "talus/solver.hpp"
+#include "talus/solver/detail.hpp"
+#include "talus/solver/scatter.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+#include <numeric>
+#include <variant>
+
+namespace talus {
+
+namespace {
+
+// G2P for one particle, eq. 22-23: a rigid body's particle takes the body's velocity; any other
+// the FLIP/PIC blend of its field's velocity change, v_p <- flip (v_p + v^{n+1} - v^n) +
+// (1 - flip) v^{n+1} (interpolated), and moves with (v^n + v^{n+1}) / 2.
+template <int D>
+[[gnu::always_inline]] inline void
+move_particle(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const BodyField<D>& N,
+              const ShapeWeights<D>& sw, double flip, double dt) {
+  if (body.rigid) {
+    P.v[p] = body.rigid_velocity;
+    P.x[p] += dt * body.rigid_velocity;
+    return;
+  }
+  Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
+  for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+    v_old += N_I * N.v[I];
+    v_new += N_I * N.v_new[I];
+  });
+  P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
+  P.x[p] += 0.5 * dt * (v_old + v_new);
+}
+
+} // namespace
+
+// G2P, eq. 22-23. Reads v^n and v^{n+1} of each particle's field and the shape-weight cache;
+// writes the particles' velocity (the FLIP/PIC blend of the grid change) and position (moved
+// with (v^n + v^{n+1}) / 2, exact for a constant acceleration); a rigid body's particles take
+// its prescribed velocity. A held field's particles do not move.
+template <int D>
+void Simulation<D>::update_particles(double dt) {
+  auto& P = particles_;
+  const double flip = setup_.flip;
+  std::atomic<std::size_t> gone{no_particle};
+  const Vec<D> lo = grid_.origin, hi = grid_.upper();
+  for (int b = 0; b < num_bodies(); ++b) {
+    if (field_held_[b]) continue;
+    assert_shape_current();
+    const BodySetup<D>& body = setup_.bodies[b];
+    const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+#pragma omp parallel for schedule(static)
+    for (std::int64_t p = begin; p < end; ++p) {
+      move_particle(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
+      if (!motion_ok(p, lo, hi)) detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
+    }
+  }
+  bad_particle_ = std::min(bad_particle_, gone.load());
+}
+
+// MUSL's middle (eq. 22-23, then the re-map). Reads v and v_new of each particle's field;
+// writes the particles' velocity and position as update_particles does, the fields' momentum p
+// re-mapped from the new particle velocities, and v_remap = p / m. One coloured pass does the
+// gather and the scatter; the stress pass that follows reads the start-of-step weights.
+template <int D>
+void Simulation<D>::update_particles_and_remap(double dt) {
+  auto& P = particles_;
+  const double flip = setup_.flip;
+  assert_shape_current();
+  for (auto& N : fields_)
+    std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
+  std::atomic<std::size_t> gone{no_particle};
+  const Vec<D> lo = grid_.origin, hi = grid_.upper();
+  scatter([&](std::uint32_t p, int b) {
+    BodyField<D>& N = fields_[P.field[p]];
+    const ShapeWeights<D>& sw = shape_[p];
+    move_particle(P, p, setup_.bodies[b], N, sw, flip, dt);
+    if (!motion_ok(p, lo, hi)) detail::record_bad(gone, p, exchange_);
+    const Vec<D> mv_p = P.m[p] * P.v[p];
+    for_each_node(N.box, sw,
+                  [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
+  });
+  bad_particle_ = std::min(bad_particle_, gone.load());
+  for (int b = 0; b < num_bodies(); ++b) {
+    BodyField<D>& N = fields_[b];
+    const std::int64_t n = static_cast<std::int64_t>(N.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i)
+      N.v_remap[i] = N.m[i] > 0.0 ? Vec<D>(N.p[i] / N.m[i]) : Vec<D>::Zero();
+  }
+}
+
+#define TALUS_INSTANTIATE(D)                                                                       \
+  template void Simulation<D>::update_particles(double);                                           \
+  template void Simulation<D>::update_particles_and_remap(double);
+TALUS_INSTANTIATE(2)
+TALUS_INSTANTIATE(3)
+
+} // namespace talus

@@ -1,0 +1,143 @@
+// P2G: the particles' mass, momentum, forces and contact data onto their body's field
+// (eq. 14-18, 30, 37), in the coloured slab order that makes the sums thread-count independent.
+#include "talus/interface.hpp"
+#include "talus/solver.hpp"
+#include "talus/solver/detail.hpp"
+#include "talus/solver/scatter.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+#include <numeric>
+#include <variant>
+
+namespace talus {
+
+// P2G, eq. 14-18, 30 and 37. Reads the particles; writes the shape-weight cache and each field's
+// mass, momentum, mass gradient and mass-weighted position (near other bodies), bond capacities,
+// and with `with_forces` the internal and external force. The mass gradient and position serve
+// contact only; a single body skips them.
+template <int D>
+void Simulation<D>::map_particles_to_nodes(bool with_forces) {
+  const bool contact = fields_.empty() || fields_[0].needs.contact;
+  if (with_forces)
+    contact ? scatter_particles<true, true>() : scatter_particles<true, false>();
+  else
+    contact ? scatter_particles<false, true>() : scatter_particles<false, false>();
+}
+
+// Whether any node in the support of sw (body b's weights) lies in another body's field box.
+template <int D>
+bool Simulation<D>::reaches_other_body(int b, const ShapeWeights<D>& sw, int margin) const {
+  const BodyField<D>& N = fields_[b];
+  for (int c = 0; c < static_cast<int>(fields_.size()); ++c) {
+    if (c == b) continue;
+    const BodyField<D>& O = fields_[c];
+    bool overlap = true;
+    for (int d = 0; d < D && overlap; ++d) {
+      const std::int64_t first = N.offset[d] + sw.base[d], last = first + sw.k[d] - 1;
+      overlap = last >= O.frame_offset[d] - margin &&
+                first < O.frame_offset[d] + O.frame.nodes[d] + margin;
+    }
+    if (overlap) return true;
+  }
+  return false;
+}
+
+template <int D>
+template <bool with_forces, bool with_contact>
+void Simulation<D>::scatter_particles() {
+  auto& P = particles_;
+  const ShapeKind kind = setup_.shape;
+  shape_.resize(P.size());
+  shape_step_ = steps_;
+  scatter([&](std::uint32_t p, int b) {
+    const int f = P.field[p]; // b, or the host of an orphan
+    BodyField<D>& N = fields_[f];
+    ShapeWeights<D>& sw = shape_[p];
+    N.weights(sw, kind, setup_.bodies[b].gimp, P.x[p]);
+    const double m_p = P.m[p];
+    const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
+    const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
+    const Vec<D> mg = setup_.weight(m_p, b, P.x[p]);
+    auto map = [&]<bool contact>() {
+      for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
+        N.m[I] += N_I * m_p;
+        N.p[I] += N_I * mv_p;
+        if constexpr (contact) {
+          N.mx[I] += N_I * mx_p;
+          N.grad_m[I] += m_p * dN_I;
+        }
+        if constexpr (with_forces) N.f[I] += N_I * mg - Vsigma * dN_I;
+      });
+    };
+    // Contact reads the mass gradient and position only at nodes another body also reaches, all
+    // inside that body's box, and the gradient also within normal_smoothing cells of them: a
+    // particle whose nodes miss every other box so widened (most of the Vaiont bedrock) skips
+    // them. The sums at every node contact reads are unchanged.
+    // A fixed body's field is scattered once for every step to come: all of it.
+    if (with_contact &&
+        (setup_.bodies[b].fixed || reaches_other_body(f, sw, setup_.normal_smoothing)))
+      map.template operator()<true>();
+    else
+      map.template operator()<false>();
+    if (P.iface[p] >= 0 && f == b) { // eq. 37 (an orphan is not on its interface any more): the
+                                     // interface particle's share of the node's capacity
+      const InterfaceSpec& spec = setup_.interfaces[P.iface[p]];
+      const double A = P.iface_area[p];
+      const double cA = P.cohesion[p] * A, tA = tensile_strength(spec, P.cohesion[p]) * A;
+      const double muA = P.friction[p] * A;
+      const int S = N.slots, slot = setup_.slot(b, P.iface[p]);
+      for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+        const std::int64_t j = I * S + slot;
+        N.cohesion[j] += N_I * cA;
+        N.tension[j] += N_I * tA;
+        N.friction_area[j] += N_I * muA;
+        N.area[j] += N_I * A;
+      });
+      if (P.pore[p] >= 0) { // sum N A^p min(p / sigma_n, 1): its mean at the node
+        const double ratio = pore_ratio(p);
+        for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+          N.pore_ratio[I * S + slot] += N_I * A * ratio;
+        });
+      }
+    }
+  });
+}
+
+// USF's force scatter, eq. 17-18. Reads the particles' stress, volume and mass and the
+// shape-weight cache; writes each field's force.
+template <int D>
+void Simulation<D>::map_forces_to_nodes() {
+  auto& P = particles_;
+  assert_shape_current();
+  scatter([&](std::uint32_t p, int b) {
+    BodyField<D>& N = fields_[P.field[p]];
+    const ShapeWeights<D>& sw = shape_[p];
+    const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
+    const Vec<D> mg = setup_.weight(P.m[p], b, P.x[p]);
+    for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
+      N.f[I] += N_I * mg - Vsigma * dN_I;
+    });
+  });
+}
+
+// An interface particle's slip grows by the slip rate of the contact nodes around it that
+// measure one (eq. 38-39: held nodes give the tangential relative velocity, a bond opened past
+// its tensile capacity the whole relative velocity; apply_contact): their weighted mean, weights
+// N_I times 4 s (1 - s), s the interface partner's share of the two bodies' volume, read from
+// the nodes' slot of the particle's own interface. A particle with little weight on such nodes
+// (less than min_slip_weight) takes a proportionally smaller rate, so one barely touching the
+// other body gathers nothing. Its cohesion and friction follow their curves. Nothing degrades
+// while settling.
+
+#define TALUS_INSTANTIATE(D)                                                                       \
+  template void Simulation<D>::map_particles_to_nodes(bool);                                       \
+  template bool Simulation<D>::reaches_other_body(int, const ShapeWeights<D>&, int) const;         \
+  template void Simulation<D>::map_forces_to_nodes();
+TALUS_INSTANTIATE(2)
+TALUS_INSTANTIATE(3)
+
+} // namespace talus

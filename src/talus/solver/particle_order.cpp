@@ -1,0 +1,65 @@
+// The particle order that makes the scatter deterministic: particles sorted by cell within each
+// body, and binned by slab of cells along x for the coloured scatter.
+#include "talus/particle_sort.hpp"
+#include "talus/solver.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+
+namespace talus {
+
+// Reads the positions; writes the particle order (every array permuted, by cell within each
+// body) and index_of_id_. Invalidates the shape-weight cache.
+template <int D>
+void Simulation<D>::sort_particles_by_cell() {
+  auto& P = particles_;
+  invalidate_shape(); // shape_ is indexed by particle
+  apply_order(P, order_by_cell(grid_, P.x, P.body_begin));
+  index_of_id_.resize(std::max(index_of_id_.size(), P.size())); // a process's share: ids of all
+  for (std::size_t p = 0; p < P.size(); ++p)
+    index_of_id_[P.id[p]] = static_cast<std::uint32_t>(p);
+}
+
+// Reads the positions; writes each particle's slab bin (slabs of slab_width_ cells along x, by
+// body) and the bins' index, in particle order; a held field's particles get no bin.
+template <int D>
+void Simulation<D>::bin_particles_by_slab() {
+  const auto& P = particles_;
+  const int B = P.num_bodies();
+  const std::size_t n = P.size();
+  particle_bin_.resize(n);
+  bin_index_.resize(n);
+  std::fill(bin_offset_.begin(), bin_offset_.end(), 0);
+  const double inv_h = 1.0 / grid_.h;
+  constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  for (int b = 0; b < B; ++b) {
+    const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+    if (field_held_[b]) { // its field stands: no scatter visits its particles
+      std::fill(particle_bin_.begin() + begin, particle_bin_.begin() + end, none);
+      continue;
+    }
+#pragma omp parallel for schedule(static)
+    for (std::int64_t p = begin; p < end; ++p) {
+      const double xi = (P.x[p][0] - grid_.origin[0]) * inv_h;
+      const std::int64_t s =
+          std::clamp<std::int64_t>(static_cast<std::int64_t>(xi) / slab_width_, 0, num_slabs_ - 1);
+      particle_bin_[p] = static_cast<std::uint32_t>(s * B + b);
+    }
+  }
+  for (std::size_t p = 0; p < n; ++p)
+    if (particle_bin_[p] != none) ++bin_offset_[particle_bin_[p] + 1];
+  std::partial_sum(bin_offset_.begin(), bin_offset_.end(), bin_offset_.begin());
+  std::vector<std::size_t> fill(bin_offset_.begin(), bin_offset_.end() - 1);
+  for (std::size_t p = 0; p < n; ++p)
+    if (particle_bin_[p] != none)
+      bin_index_[fill[particle_bin_[p]]++] = static_cast<std::uint32_t>(p);
+}
+
+#define TALUS_INSTANTIATE(D)                                                                       \
+  template void Simulation<D>::sort_particles_by_cell();                                           \
+  template void Simulation<D>::bin_particles_by_slab();
+TALUS_INSTANTIATE(2)
+TALUS_INSTANTIATE(3)
+
+} // namespace talus
