@@ -29,7 +29,6 @@ import html
 import json
 import math
 import re
-import shutil
 import subprocess
 import sys
 import time
@@ -246,6 +245,12 @@ def plot(case_name, label, run, checks, path):
     return path
 
 
+def usage_error(message):
+    """A bad command line: one line on stderr, exit status 2 (as talus's own errors)."""
+    print(f"error: verify: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--talus", required=True)
@@ -262,12 +267,19 @@ def main():
     level = "full" if a.full else "quick"
     src = Path(a.source).resolve()
     out = Path(a.out)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "img").mkdir(exist_ok=True)
     cases = sorted((src / "cases/benchmarks").glob("*.toml")) + [
         src / "cases/vaiont/three_bodies.toml"]
     if a.cases:
+        unknown = sorted(set(a.cases) - {c.stem for c in cases})
+        if unknown:
+            usage_error(f"no case named {', '.join(unknown)}; the cases are "
+                        f"{', '.join(c.stem for c in cases)}")
         cases = [c for c in cases if c.stem in a.cases]
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "img").mkdir(exist_ok=True)
+    except OSError as e:
+        usage_error(f"--out {out}: cannot make the report folder: {e.strerror}")
     rows, sections, started = [], [], time.time()
     for case in cases:
         doc = tomllib.loads(case.read_text())
@@ -282,8 +294,8 @@ def main():
         for k, (sets, group) in enumerate(groups.items()):
             label = ", ".join(sets)
             folder = out / "runs" / (case.stem + (f"_{k}" if len(groups) > 1 else ""))
-            shutil.rmtree(folder, ignore_errors=True)
-            cmd = [a.talus, "run", str(case), "--out", str(folder)]
+            # --overwrite: talus empties its own earlier run folder, and refuses any other.
+            cmd = [a.talus, "run", str(case), "--out", str(folder), "--overwrite"]
             for s in list(base) + list(sets):
                 cmd += ["--set", s]
             if a.threads:

@@ -22,10 +22,8 @@ struct Problem {
   int steps;
 };
 
-} // namespace
-
-int run_bench(const BenchOptions& opt) {
-  const std::vector<Problem> all = {
+const std::vector<Problem>& problems() {
+  static const std::vector<Problem> all = {
       {"column", "bench/column.toml", {}, 300},
       {"column_4x", "bench/column.toml", {"grid.cell_size=0.001"}, 300},
       {"vaiont",
@@ -35,6 +33,20 @@ int run_bench(const BenchOptions& opt) {
        200},
       {"vaiont_3d", "cases/vaiont/rigid_boundary_3d.toml", {"initial_state.settle_time=0"}, 100},
   };
+  return all;
+}
+
+} // namespace
+
+std::vector<std::string> bench_problem_names() {
+  std::vector<std::string> names;
+  for (const Problem& pb : problems())
+    names.push_back(pb.name);
+  return names;
+}
+
+int run_bench(const BenchOptions& opt) {
+  const std::vector<Problem>& all = problems();
   nlohmann::json out = nlohmann::json::array();
   if (process_rank() == 0)
     fmt::print(

@@ -14,6 +14,9 @@ struct BenchOptions {
   std::string json_out; // write the figures here too (optional)
 };
 
+// The problems `talus bench` knows, by name.
+std::vector<std::string> bench_problem_names();
+
 int run_bench(const BenchOptions& opt);
 
 } // namespace talus

@@ -44,69 +44,33 @@ std::vector<std::size_t> fill_for_check(const talus::Case& c) {
 int check(const talus::Case& c) {
   const int dim = c.simulation.dimension;
   const std::vector<std::size_t> counts = dim == 2 ? fill_for_check<2>(c) : fill_for_check<3>(c);
-  std::size_t total = 0;
-  double max_wave = 0.0;
   fmt::print("case {}: {}\n", c.file, c.title);
-  for (std::size_t b = 0; b < c.bodies.size(); ++b) {
-    total += counts[b];
-    const auto& mat = c.materials[c.bodies[b].material];
-    if (!c.bodies[b].rigid) // a rigid body carries no stress wave
-      max_wave = std::max(max_wave, std::sqrt(mat.p_wave_modulus() / mat.density()));
+  for (std::size_t b = 0; b < c.bodies.size(); ++b)
     fmt::print("  body {:<16} {:>10} particles  material {}\n", c.bodies[b].name, counts[b],
-               mat.name);
-  }
-  const double nodes = talus::grid_nodes(c.grid, dim);
-  const double cfl_dt =
-      std::min(c.simulation.dt_max, c.simulation.cfl * c.grid.cell_size / max_wave);
-  const double dt = c.simulation.dt ? *c.simulation.dt : cfl_dt;
-  // Settling runs first, at its own CFL number (a fixed dt applies to both).
-  const double settle_dt =
-      c.simulation.dt
-          ? dt
-          : std::min(c.simulation.dt_max, c.initial_state.settle_cfl.value_or(c.simulation.cfl) *
-                                              c.grid.cell_size / max_wave);
-  // Output times: the step is shortened to land on each, so there are at least as many steps.
-  const double every = c.output.every > 0 ? c.output.every : c.simulation.end_time;
-  const double outputs = std::ceil(c.simulation.end_time / every - 1e-9);
-  const double frames = c.output.particles ? outputs + 1.0 : 0.0;
-  const double steps = std::max(std::ceil(c.simulation.end_time / dt), outputs) +
-                       std::ceil(c.initial_state.settle_time / settle_dt);
-  const double memory = talus::estimate_memory(c, counts);
+               c.materials[c.bodies[b].material].name);
+  const talus::RunPlan plan = talus::plan_run(c, counts);
   constexpr double assumed_rate = 5e6; // particle-updates/s on 2 threads (docs/performance.md)
-  fmt::print("  {} particles, {:.0f} grid nodes ({}D, cell {} m)\n", total, nodes, dim,
-             c.grid.cell_size);
-  fmt::print("  time step {:.3g} s ({}), about {:.3g} steps to {} s{}\n", dt,
-             c.simulation.dt ? "fixed" : "CFL at rest", steps, c.simulation.end_time,
+  fmt::print("  {} particles, {:.0f} grid nodes ({}D, cell {} m)\n", plan.particles,
+             talus::grid_nodes(c.grid, dim), dim, c.grid.cell_size);
+  fmt::print("  time step {:.3g} s ({}), about {:.3g} steps to {} s{}\n", plan.dt,
+             c.simulation.dt ? "fixed" : "CFL at rest", plan.steps, c.simulation.end_time,
              c.initial_state.settle_time > 0.0
                  ? fmt::format(" after {} s of settling", c.initial_state.settle_time)
                  : std::string());
   fmt::print("  memory about {:.1f} MB (this machine: {:.1f} GB); run time about {:.3g} "
              "s at {:.0e} particle-updates/s\n",
-             memory / 1e6, talus::machine_memory() / 1e9, total * steps / assumed_rate,
-             assumed_rate);
+             plan.memory_bytes / 1e6, talus::machine_memory() / 1e9,
+             static_cast<double>(plan.particles) * plan.steps / assumed_rate, assumed_rate);
   // The frames and their size before compression (an upper bound: zlib shrinks the floats by a
   // third to a half and the integer arrays to almost nothing; docs/case-file.md).
-  const double frame_bytes = static_cast<double>(total) * talus::frame_bytes_per_particle(c);
-  const double output = frames * frame_bytes;
-  fmt::print("  output about {:.0f} frames, at most about {:.3g} GB before compression "
+  fmt::print("  output about {:.6g} frames, at most about {:.3g} GB before compression "
              "({:.0f} bytes per particle per frame)\n",
-             frames, output / 1e9, talus::frame_bytes_per_particle(c));
-  std::error_code ec;
-  const auto space = std::filesystem::space(".", ec);
-  if (frames > 10000)
-    fmt::print(stderr,
-               "warning: output.every = {:.3g} s writes about {:.0f} frames: more than 10,000\n",
-               every, frames);
-  if (!ec && output > static_cast<double>(space.available))
-    fmt::print(stderr,
-               "warning: the output (about {:.3g} GB before compression) may not fit in the "
-               "{:.3g} GB free here: a larger output.every or fewer output.fields\n",
-               output / 1e9, static_cast<double>(space.available) / 1e9);
-  if (c.simulation.dt && *c.simulation.dt > cfl_dt)
-    fmt::print(stderr,
-               "warning: simulation.dt = {:.3g} s is {:.3g} times the stable (CFL {}) step "
-               "{:.3g} s of the stiffest body: expect the run to blow up\n",
-               *c.simulation.dt, *c.simulation.dt / cfl_dt, c.simulation.cfl, cfl_dt);
+             plan.frames, plan.output_bytes / 1e9, plan.frame_bytes);
+  for (const std::string& w : plan.warnings)
+    fmt::print(stderr, "warning: {}\n", w);
+  if (!plan.refusal.empty()) throw talus::CaseError(fmt::format("{}: {}", c.file, plan.refusal));
+  if (!plan.disk_full.empty())
+    throw talus::CaseError(fmt::format("{}: {}", c.file, plan.disk_full));
   return 0;
 }
 
@@ -191,7 +155,9 @@ int main(int argc, char** argv) {
   run->add_option("--threads,-t", threads,
                   "OpenMP threads (default: one per 25,000 particles, at most the cores)")
       ->check(CLI::Range(1, 1024));
-  bool overwrite = false;
+  bool overwrite = false, force = false;
+  run->add_flag("--force", force,
+                "run even if the output cannot fit in the free disk space (talus check)");
   run->add_flag("--overwrite", overwrite,
                 "empty the run folder of an earlier run first (a fresh run refuses a non-empty "
                 "folder)")
@@ -208,10 +174,24 @@ int main(int argc, char** argv) {
   talus::BenchOptions bench_opt;
   auto* bench =
       app.add_subcommand("bench", "throughput of fixed problems (particle-updates per second)");
-  bench->add_option("--threads", bench_opt.threads, "thread counts to run (default: 1 2)");
-  bench->add_option("--problems", bench_opt.problems,
-                    "column, column_4x, vaiont, vaiont_3d (default: all)");
-  bench->add_option("--json", bench_opt.json_out, "also write the figures as JSON here");
+  bench->add_option("--threads", bench_opt.threads, "thread counts to run (default: 1 2)")
+      ->check(CLI::Range(1, 1024))
+      ->delimiter(',');
+  bench
+      ->add_option("--problems", bench_opt.problems,
+                   "column, column_4x, vaiont, vaiont_3d (default: column column_4x vaiont)")
+      ->check(CLI::IsMember(talus::bench_problem_names()))
+      ->delimiter(',');
+  bench->add_option("--json", bench_opt.json_out, "also write the figures as JSON here")
+      ->check([](const std::string& path) -> std::string {
+        const std::filesystem::path p(path);
+        std::error_code ec;
+        if (std::filesystem::is_directory(p, ec)) return path + ": is a folder; give a file name";
+        const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
+        if (!std::filesystem::is_directory(dir, ec))
+          return path + ": its folder " + dir.string() + " does not exist";
+        return {};
+      });
   bench->add_option("--source", bench_opt.source_dir, "the Talus source folder (default: .)");
 
   // verify: the suite lives in tools/verify.py (it drives this program and plots with
@@ -275,6 +255,9 @@ int main(int argc, char** argv) {
     } catch (const talus::CaseError& e) {
       fmt::print(stderr, "error: {}\n", e.what());
       return 2;
+    } catch (const talus::OutputError& e) {
+      fmt::print(stderr, "error: output: {}\n", e.what());
+      return 3;
     }
   }
 
@@ -319,6 +302,7 @@ int main(int argc, char** argv) {
   opt.threads = threads;
   if (max_steps >= 0) opt.max_steps = max_steps;
   opt.overwrite = overwrite;
+  opt.force = force;
   opt.log = talus::process_rank() == 0 ? &std::cout : nullptr;
   inject_faults(opt);
   return run_and_report([&] { return talus::run_case(c, opt); });

@@ -1,6 +1,7 @@
 #include "talus/run.hpp"
 
 #include "talus/case/parse.hpp"
+#include "talus/case/size.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/frame_totals.hpp"
 #include "talus/output/progress.hpp"
@@ -167,10 +168,16 @@ private:
     if (!monitor_) monitor_.emplace(sim_, std::move(ids), totals);
   }
 
-  // A row in every CSV (forces as time means since the previous row) and a frame.
+  // A row in every CSV (forces as time means since the previous row) and a frame. A kinetic
+  // energy or momentum that is not finite (a speed whose square overflows) stops the run.
   // Nothing needs the whole state: the sums are combined, the particles stream to rank 0.
   void write_frame() {
     const FrameTotals<D> totals = frame_totals(sim_, monitor_->probe_ids());
+    if (!std::isfinite(totals.kinetic_energy) || !totals.momentum.allFinite())
+      throw SimulationError(fmt::format(
+          "step {}, time {:.6g} s: the kinetic energy ({:.3g} J) or the momentum is not finite: "
+          "a speed in the case is out of any physical range",
+          sim_.steps(), sim_.time(), totals.kinetic_energy));
     on_rank_zero([&] { check_folder(); }); // every process stops before the frame if it went
     const std::vector<ContactNodeForce<D>> nodes = stepper_->contact_nodes();
     std::string error; // rank 0's, reported once every process has sent its particles
@@ -214,10 +221,20 @@ private:
     });
   }
 
-  void timed_step(double dt_limit) {
+  // One step; then the run stops (failed) if, at the step it took, reaching `until` would take
+  // more than max_run_steps steps: a time step that collapsed (a speed or a scale out of any
+  // physical range) would otherwise step forever.
+  void timed_step(double dt_limit, double until) {
     const auto t0 = Clock::now();
     stepper_->step(dt_limit);
     stepping_ += std::chrono::duration<double>(Clock::now() - t0).count();
+    const double dt = sim_.last_stable_dt(), remaining = (until - sim_.time()) / dt;
+    if (!(remaining <= max_run_steps))
+      throw SimulationError(fmt::format(
+          "step {}, time {:.6g} s: the time step {:.3g} s would take {:.3g} more steps to reach "
+          "{:.6g} s, more than the {:.0e} a run may take: a speed, a material constant or a time "
+          "in the case is out of its physical range",
+          sim_.steps(), sim_.time(), dt, remaining, until, max_run_steps));
   }
 
   // Settles (if the case does and the run is not past it), releases, then advances to the end;
@@ -243,7 +260,7 @@ private:
     const double T = c_.initial_state.settle_time;
     Progress progress(opt_.log, T, sim_.steps());
     while (T - sim_.time() > 1e-12 * T) {
-      timed_step(T - sim_.time());
+      timed_step(T - sim_.time(), T);
       progress.update(sim_.time(), sim_.steps());
       if (!after_step(r)) return false;
     }
@@ -269,7 +286,7 @@ private:
     Progress progress(opt_.log, end, sim_.steps());
     while (end - sim_.time() > 1e-12 * end) {
       const double next_output = std::min(end, every * static_cast<double>(frame_));
-      timed_step(next_output - sim_.time());
+      timed_step(next_output - sim_.time(), end);
       monitor_->update(monitor_->figures(sim_), sim_.time(), c_.results.stop_speed);
       if (sim_.time() >= next_output - 1e-12 * end) {
         write_frame();
@@ -438,8 +455,26 @@ RunResult run_dim(const Case& c, const RunOptions& opt, const std::optional<RunF
 } // namespace
 
 RunResult run_case(const Case& c, const RunOptions& opt) {
+  // What talus check would say of the case, said again (from the particles the shapes give):
+  // its warnings, and its refusals before anything is written.
+  std::vector<std::size_t> particles;
+  for (const BodySpec& b : c.bodies) {
+    double n = 0.0; // a union of shapes: their sum, an upper bound
+    for (const Geometry& g : b.geometry)
+      n += estimate_particles(g, c.simulation.dimension, c.grid.cell_size, b.particles_per_cell);
+    particles.push_back(static_cast<std::size_t>(n));
+  }
+  const RunPlan plan = plan_run(c, particles, opt.out_dir);
+  if (!plan.refusal.empty()) throw CaseError(fmt::format("{}: {}", c.file, plan.refusal));
+  if (opt.log)
+    for (const std::string& w : plan.warnings)
+      *opt.log << "talus: warning: " << w << "\n";
   std::optional<RunFolder> folder; // rank 0's, held to the end of the run
-  on_rank_zero([&] { folder.emplace(prepare_run_inputs(c, opt.out_dir, opt.overwrite)); });
+  on_rank_zero([&] {
+    if (!plan.disk_full.empty() && !opt.force)
+      throw RunFolderError(fmt::format("{}: {}", opt.out_dir, plan.disk_full));
+    folder.emplace(prepare_run_inputs(c, opt.out_dir, opt.overwrite));
+  });
   return c.simulation.dimension == 2 ? run_dim<2>(c, opt, folder) : run_dim<3>(c, opt, folder);
 }
 

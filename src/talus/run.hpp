@@ -15,6 +15,7 @@ struct RunOptions {
   int threads = 0;                       // 0: by the problem's size (set_threads)
   std::optional<std::int64_t> max_steps; // stop after this many steps (of this start or restart)
   bool overwrite = false;                // a fresh run may empty an earlier run's folder
+  bool force = false;                    // run even if the output cannot fit on the disk
   std::ostream* log = nullptr;           // progress and messages; null: silent
   // Fault injection for the restart tests: raise this signal right after this step.
   int inject_signal = 0;

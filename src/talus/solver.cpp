@@ -42,12 +42,9 @@ Simulation<D>::Simulation(const Case& c, Seeded<D> seeded) : case_data_(c) {
   // Each interface particle of an interface with pore pressure gets its state, zero rises, in
   // id order over the whole case (a process's particles take their offsets in that pool).
   for (const auto& [id, f] : seeded.pore_particles) {
+    const std::size_t at = pore_.add(f, setup_.bands[f] ? setup_.bands[f]->state_size() : 0);
     if (const std::size_t p = index_of_id_[id]; p < particles_.size() && particles_.id[p] == id)
-      particles_.pore[p] = static_cast<std::int64_t>(pore_state_.size());
-    pore_entries_.emplace_back(pore_state_.size(), f);
-    pore_state_.resize(pore_state_.size() + pore_header +
-                           (setup_.bands[f] ? setup_.bands[f]->state_size() : 0),
-                       0.0);
+      particles_.pore[p] = static_cast<std::int64_t>(at);
   }
   field_held_.assign(B, 0);
   normal_cache_.resize(B);
@@ -130,6 +127,7 @@ void Simulation<D>::begin_step(double dt_limit) {
   }
   const double floor = ts.dt_min.value_or(1e-4 * dt_reference_);
   if (!ts.fixed_dt && stable < floor) report_time_step_collapse(stable, floor);
+  stable_dt_ = stable;
   dt_ = std::min(stable, dt_limit);
   if (steps_ % sort_interval_ == 0) sort_particles_by_cell();
   bin_particles_by_slab();
@@ -166,7 +164,7 @@ double Simulation<D>::interface_pore_pressure(std::size_t p) const {
   const auto& P = particles_;
   if (P.iface[p] < 0) return 0.0;
   const double p0 = setup_.interfaces[P.iface[p]].pore_pressure;
-  return P.pore[p] >= 0 ? p0 + pore_state_[P.pore[p] + 1] : p0;
+  return P.pore[p] >= 0 ? p0 + pore_.at(P.pore[p]).pressure_rise() : p0;
 }
 
 template <int D>
@@ -181,7 +179,8 @@ template <int D>
 double Simulation<D>::band_temperature(std::size_t p) const {
   const auto& P = particles_;
   if (P.pore[p] < 0 || !setup_.bands[P.iface[p]]) return std::numeric_limits<double>::quiet_NaN();
-  return setup_.interfaces[P.iface[p]].thermal_pressurization->temperature + pore_state_[P.pore[p]];
+  return setup_.interfaces[P.iface[p]].thermal_pressurization->temperature +
+         pore_.at(P.pore[p]).temperature_rise();
 }
 
 namespace {

@@ -12,6 +12,7 @@
 #include "talus/output/checkpoint.hpp"
 #include "talus/parallel/exchange.hpp"
 #include "talus/particles.hpp"
+#include "talus/pore_pool.hpp"
 #include "talus/seeding.hpp"
 #include "talus/setup.hpp"
 #include "talus/shape.hpp"
@@ -52,6 +53,8 @@ public:
   double time() const { return time_; }
   std::int64_t steps() const { return steps_; }
   double last_dt() const { return dt_; }
+  // The last step's stable step (CFL or fixed), before an output time shortened it.
+  double last_stable_dt() const { return stable_dt_; }
   // The case as given: for the output writers (names, probes, output options), not the phases.
   const Case& case_() const { return case_data_; }
   const Setup<D>& setup() const { return setup_; }
@@ -113,7 +116,7 @@ public:
   // An interface particle's min(p / sigma_n, 1), sigma_n its normal stress of the last step (0
   // where it has none): the share of its normal stress its pore pressure takes off friction.
   double pore_ratio(std::size_t p) const {
-    const double sigma_n = pore_state_[static_cast<std::size_t>(particles_.pore[p]) + 2];
+    const double sigma_n = pore_.at(particles_.pore[p]).normal_stress();
     return sigma_n > 0.0 ? std::min(interface_pore_pressure(p) / sigma_n, 1.0) : 0.0;
   }
   // The band temperature of an interface particle with thermal pressurization (deg C), else NaN.
@@ -122,17 +125,15 @@ public:
   // level, plus an interface particle's excess.
   double pore_pressure(std::size_t p) const;
 
-  // The pore pool: per interface particle with pore pressure (Particles::pore), the band-mean
-  // temperature and pore pressure rises (zero without a band), its compressive normal stress
-  // (the contact's normal force of the last step shared out by N_I A^p), then the profiles
-  // across its band (BandGrid's state) if it has one.
-  static constexpr std::size_t pore_header = 3;
-  // Each pore-pool entry: its offset and its interface (fixed for the run: sorting moves only
-  // the particles' offsets).
-  const std::vector<std::pair<std::size_t, int>>& pore_entries() const { return pore_entries_; }
-  const std::vector<double>& pore_state() const { return pore_state_; }
+  // The pore pool (pore_pool.hpp): per interface particle with pore pressure
+  // (Particles::pore), the band-mean temperature and pore pressure rises (zero without a band),
+  // its compressive normal stress (the contact's normal force of the last step shared out by
+  // N_I A^p), then the profiles across its band if it has one.
+  const PorePool& pore_pool() const { return pore_; }
+  const std::vector<std::pair<std::size_t, int>>& pore_entries() const { return pore_.entries; }
+  const std::vector<double>& pore_state() const { return pore_.data; }
   // Each process holds the whole pool; migration and ghosts bring the entries of its particles.
-  std::vector<double>& pore_state_mut() { return pore_state_; }
+  std::vector<double>& pore_state_mut() { return pore_.data; }
 
   // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
   const std::vector<std::string>& warnings() const { return warnings_; }
@@ -193,7 +194,7 @@ public:
     ar.io(time_), ar.io(dt_), ar.io(dt_reference_), ar.io(steps_), ar.io(settling_);
     ar.io(record_.force_), ar.io(record_.interface_force);
     ar.io(record_.impulse_), ar.io(record_.interface_impulse), ar.io(record_.impulse_time);
-    ar.io(record_.work), ar.io(internal_work_), ar.io(strain_energy0_), ar.io(pore_state_);
+    ar.io(record_.work), ar.io(internal_work_), ar.io(strain_energy0_), ar.io(pore_.data);
     // The last step's contact nodes, for a frame written before the next step (the release
     // after a restart from the checkpoint at the end of settling).
     std::vector<double> nodes;
@@ -347,6 +348,7 @@ private:
   double time_ = 0.0;
   double dt_ = 0.0;
   double dt_reference_ = 0.0; // the first stable step: the floor is a fraction of it
+  double stable_dt_ = 0.0;    // the last step's, before dt_limit (last_stable_dt)
   std::int64_t steps_ = 0;
   int sort_interval_ = 20;
   // The particle check rides on the transfers: the pass that moves a particle checks its position
@@ -363,8 +365,7 @@ private:
   std::vector<std::size_t> body_count_; // per body: the whole case's particles
   PhaseTimes phase_times_;
   std::vector<std::string> warnings_;
-  std::vector<double> pore_state_; // thermal pressurization (pore_state())
-  std::vector<std::pair<std::size_t, int>> pore_entries_;
+  PorePool pore_; // interface pore pressure and thermal pressurization (pore_pool())
 };
 
 } // namespace talus

@@ -35,6 +35,15 @@ expect(["run", case, "--threads", "0"], 2, "--threads")
 expect(["run", case, "--threads", "10000"], 2, "--threads")
 expect(["--help"], 0, "Usage")
 expect(["check", "/dev/zero"], 2, "not a regular file")
+# bench and verify: a bad option is a clear error (exit 2) before anything runs, never an abort.
+expect(["bench", "--threads", "0"], 2, "--threads")
+expect(["bench", "--problems", "colum"], 2, "--problems")
+expect(["bench", "--problems", "column,nosuch"], 2, "--problems")
+expect(["bench", "--json", str(work)], 2, "is a folder")
+expect(["bench", "--json", str(work / "no_such_folder/x.json")], 2, "does not exist")
+expect(["verify", "--cases", "nosuch", "--out", str(work / "report")], 2, "no case named nosuch")
+(work / "a_file").write_text("x\n")
+expect(["verify", "--out", str(work / "a_file")], 2, "cannot make the report folder")
 expect(["check", case, "--set", "simulation.gravity=[0,"], 2, "does not parse as TOML")
 expect(["check", case, "--set", "body.block.velocity=[1e999,0]"], 2, "does not parse as TOML")
 expect(["check", case, "--set", "end_time=1"], 2, "did you mean simulation.end_time?")
@@ -49,8 +58,28 @@ if not ok:
 
 # talus check estimates the output and warns of a case that would write too much.
 expect(["check", case], 0, "output about 21 frames")  # 1 s at 0.05 s, and t = 0
-expect(["check", case, "--set", "output.every=1e-9"], 0, "more than 10,000")
-expect(["check", case, "--set", "output.every=1e-9"], 0, "may not fit")
+expect(["check", case, "--set", "output.every=0.0000999"], 0, "more than 10,000")
+expect(["check", case, "--set", "output.every=1e-9"], 2, "does not fit")
+expect(["check", case, "--set", "output.every=1e-9"], 2, "more than 10,000")
+# talus run says check's warnings again, and refuses what check refuses, before writing anything.
+expect(["run", case, "--out", str(work / "full"), "--set", "output.every=1e-9"], 2, "does not fit")
+expect(["run", case, "--out", str(work / "many"), "--set", "output.every=0.0001", "--max-steps",
+        "1"], 0, "warning: output.every")
+ok = not (work / "full").exists()
+print(("ok   " if ok else "FAIL ") + "a refused run writes no folder")
+if not ok:
+    failures.append("refused run folder")
+# Numbers out of any physical range: refused by check and run, or a run that stops at once.
+for key, text in [("simulation.end_time=1e300", "more than the 1e+09"),
+                  ("material.rubber.youngs_modulus=1e300", "more than the 1e+09"),
+                  ("material.rubber.density=1e300", "between 1 and 100,000"),
+                  ("material.rubber.density=1e-300", "between 1 and 100,000")]:
+    expect(["check", case, "--set", key], 2, text)
+    expect(["run", case, "--out", str(work / "absurd"), "--set", key], 2, text)
+expect(["run", case, "--out", str(work / "fast"), "--set", "body.block.velocity=[1e10, 0]"], 1,
+       "more than the 1e+09 a run may take")
+expect(["run", case, "--out", str(work / "overflow"), "--set", "body.block.velocity=[1e155, 0]"],
+       1, "not finite")
 
 # The real-DEM example (cases/examples/volcano_slide.toml): the slide's particles hold the volume
 # between its two rasters' bilinear surfaces inside the footprint (integrated here on a 0.5 m

@@ -104,6 +104,8 @@ check(wait_for(busy / "checkpoints/step_0000000000.ckpt", 60) or
 time.sleep(1.0)
 while p.poll() is None and not list((busy / "checkpoints").glob("*.ckpt")):
     time.sleep(0.1)
+check(p.poll() is None, f"the long run is still going (exit {p.poll()}: "
+      f"{p.stderr.read()[-300:] if p.poll() is not None else ''})")
 code, out = run(case, "--out", busy, "--overwrite", *short)
 check(code == 2 and f"talus process {p.pid}" in out and p.poll() is None,
       f"--overwrite onto a running run's folder is refused, naming it (exit {code}): "

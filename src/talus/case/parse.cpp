@@ -136,6 +136,10 @@ Material read_material(TableReader& r) {
       r.choice("model", {"linear_elastic", "drucker_prager", "mohr_coulomb"}, "linear_elastic");
   const double density = r.number("density");
   require(r, "density", density > 0.0, "must be > 0 kg/m^3");
+  // Beyond what any material on Earth has (osmium: 22,590), a density is a typo; its time step
+  // and run would be absurd.
+  require(r, "density", density >= 1.0 && density <= 1e5,
+          "must be between 1 and 100,000 kg/m^3 (a material on Earth)");
   const double E = r.number("youngs_modulus");
   require(r, "youngs_modulus", E >= 1.0,
           "must be >= 1 Pa (a solid; softer than that the time step exceeds any run)");

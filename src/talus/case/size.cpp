@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
 #include <numbers>
 #include <type_traits>
 #include <unistd.h>
@@ -158,6 +160,71 @@ double frame_bytes_per_particle(const Case& c) {
 double machine_memory() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
   return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 8e9;
+}
+
+RunPlan plan_run(const Case& c, const std::vector<std::size_t>& particles,
+                 const std::string& out_dir) {
+  RunPlan plan;
+  double max_wave = 0.0; // the fastest P-wave, sqrt(M / rho), of a deformable body
+  for (std::size_t b = 0; b < c.bodies.size(); ++b) {
+    plan.particles += particles[b];
+    const Material& mat = c.materials[c.bodies[b].material];
+    if (!c.bodies[b].rigid)
+      max_wave = std::max(max_wave, std::sqrt(mat.p_wave_modulus() / mat.density()));
+  }
+  const SimulationSettings& s = c.simulation;
+  plan.cfl_dt = std::min(s.dt_max, s.cfl * c.grid.cell_size / max_wave);
+  plan.dt = s.dt ? *s.dt : plan.cfl_dt;
+  // Settling runs first, at its own CFL number (a fixed dt applies to both).
+  const double settle_dt = s.dt ? plan.dt
+                                : std::min(s.dt_max, c.initial_state.settle_cfl.value_or(s.cfl) *
+                                                         c.grid.cell_size / max_wave);
+  // Output times: the step is shortened to land on each, so there are at least as many steps.
+  const double every = c.output.every > 0 ? c.output.every : s.end_time;
+  const double outputs = std::ceil(s.end_time / every - 1e-9);
+  plan.frames = c.output.particles ? outputs + 1.0 : 0.0;
+  plan.steps = std::max(std::ceil(s.end_time / plan.dt), outputs) +
+               std::ceil(c.initial_state.settle_time / settle_dt);
+  plan.memory_bytes = estimate_memory(c, particles);
+  plan.frame_bytes = frame_bytes_per_particle(c);
+  plan.output_bytes = plan.frames * static_cast<double>(plan.particles) * plan.frame_bytes;
+  // The free space where the run folder goes: its nearest folder that exists.
+  std::error_code ec;
+  std::filesystem::path where = std::filesystem::absolute(out_dir.empty() ? "." : out_dir, ec);
+  while (!where.empty() && !std::filesystem::exists(where, ec) && where != where.parent_path())
+    where = where.parent_path();
+  if (const auto space = std::filesystem::space(where, ec); !ec)
+    plan.free_disk_bytes = static_cast<double>(space.available);
+
+  if (plan.frames > 10000)
+    plan.warnings.push_back(
+        fmt::format("output.every = {:.3g} s writes about {:.0f} frames: more than 10,000", every,
+                    plan.frames));
+  if (plan.free_disk_bytes >= 0 && plan.output_bytes > plan.free_disk_bytes)
+    plan.warnings.push_back(fmt::format(
+        "the output (about {:.3g} GB before compression) may not fit in the {:.3g} GB free here: "
+        "a larger output.every or fewer output.fields",
+        plan.output_bytes / 1e9, plan.free_disk_bytes / 1e9));
+  if (s.dt && *s.dt > plan.cfl_dt)
+    plan.warnings.push_back(fmt::format(
+        "simulation.dt = {:.3g} s is {:.3g} times the stable (CFL {}) step {:.3g} s of the "
+        "stiffest body: expect the run to blow up",
+        *s.dt, *s.dt / plan.cfl_dt, s.cfl, plan.cfl_dt));
+  // Refused: a step count past any run; an output that cannot fit even compressed.
+  if (!(plan.steps <= max_run_steps))
+    plan.refusal = fmt::format(
+        "the case would take about {:.3g} steps (a time step of {:.3g} s), more than the {:.0e} a "
+        "run may take: check simulation.end_time, simulation.dt and the materials' densities and "
+        "moduli",
+        plan.steps, plan.dt, max_run_steps);
+  if (plan.free_disk_bytes >= 0 && best_compression * plan.output_bytes > plan.free_disk_bytes)
+    plan.disk_full = fmt::format(
+        "the output (about {:.3g} GB before compression, at least {:.3g} GB compressed) does not "
+        "fit in the {:.3g} GB free here: a larger output.every or fewer output.fields (or "
+        "--force to run anyway)",
+        plan.output_bytes / 1e9, best_compression * plan.output_bytes / 1e9,
+        plan.free_disk_bytes / 1e9);
+  return plan;
 }
 
 } // namespace talus

@@ -6,6 +6,7 @@
 #include "talus/case/case.hpp"
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace talus {
@@ -42,5 +43,31 @@ double frame_bytes_per_particle(const Case& c);
 
 // Physical memory of this machine in bytes (the limit a case must fit in).
 double machine_memory();
+
+// The most steps a run may take: a case planned past it is refused, and a run whose time step
+// collapses so far that it would need more stops.
+inline constexpr double max_run_steps = 1e9;
+
+// What a run of case c will take, with `particles[b]` particles in body b, from the state at
+// rest: what `talus check` prints, and what `talus run` warns of and refuses before it starts.
+struct RunPlan {
+  std::size_t particles = 0;
+  double dt = 0.0;          // the time step (fixed, or CFL at rest)
+  double cfl_dt = 0.0;      // the CFL step of the stiffest body at rest
+  double steps = 0.0;       // to end_time, settling included (output times add steps)
+  double frames = 0.0;      // particle frames
+  double frame_bytes = 0.0; // per particle per frame, before compression
+  double output_bytes = 0.0;
+  double memory_bytes = 0.0;
+  double free_disk_bytes = -1.0;     // where the run folder goes (-1: unknown)
+  std::vector<std::string> warnings; // what may go wrong but is allowed
+  std::string refusal;               // why the case cannot run (empty: it can)
+  std::string disk_full;             // why its output cannot fit (empty: it may; --force runs)
+};
+// `out_dir`: where the output goes (its free space; the nearest existing parent).
+RunPlan plan_run(const Case& c, const std::vector<std::size_t>& particles,
+                 const std::string& out_dir = ".");
+// Bytes a compressed frame takes at least, per byte before compression (zlib on float fields).
+inline constexpr double best_compression = 0.5;
 
 } // namespace talus

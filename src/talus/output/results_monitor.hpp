@@ -73,11 +73,11 @@ public:
       if (P.pore[p] < 0 || !sim.is_own(p)) continue;
       const int i = P.iface[p];
       const InterfaceSpec& spec = sim.setup().interfaces[i];
-      const double* s = &sim.pore_state()[P.pore[p]];
-      f.pore_peak[i] = std::max(f.pore_peak[i], spec.pore_pressure + s[1]);
+      const ConstPoreRecord s = sim.pore_pool().at(P.pore[p]);
+      f.pore_peak[i] = std::max(f.pore_peak[i], spec.pore_pressure + s.pressure_rise());
       if (spec.thermal_pressurization)
-        f.temperature_peak[i] =
-            std::max(f.temperature_peak[i], spec.thermal_pressurization->temperature + s[0]);
+        f.temperature_peak[i] = std::max(
+            f.temperature_peak[i], spec.thermal_pressurization->temperature + s.temperature_rise());
     }
     if (body_ >= 0) {
       const std::size_t begin = P.body_begin[body_], end = P.body_begin[body_ + 1];

@@ -36,9 +36,10 @@ void Simulation<D>::update_interface_history(double dt) {
         });
         return sum;
       };
-      double* state = P.pore[p] >= 0 ? &pore_state_[static_cast<std::size_t>(P.pore[p])] : nullptr;
-      const double ratio = state ? pore_ratio(static_cast<std::size_t>(p)) : 0.0; // the scatter's
-      if (state) state[2] = gather(N.normal_stress);
+      const bool pore = P.pore[p] >= 0;
+      const PoreRecord state = pore_.at(pore ? P.pore[p] : 0);
+      const double ratio = pore ? pore_ratio(static_cast<std::size_t>(p)) : 0.0; // the scatter's
+      if (pore) state.normal_stress() = gather(N.normal_stress);
       if (settling_) continue;
       double rate = 0.0, weight = 0.0;
       for_each_node(N.box, shape_[p], [&](std::int64_t I, double N_I, const Vec<D>&) {
@@ -49,16 +50,16 @@ void Simulation<D>::update_interface_history(double dt) {
       P.slip[p] += rate / std::max(weight, detail::min_slip_weight) * dt;
       P.cohesion[p] = spec.cohesion.at(P.slip[p], spec.curve);
       P.friction[p] = spec.friction.at(P.slip[p], spec.curve);
-      if (state && setup_.bands[P.iface[p]]) {
+      if (pore && setup_.bands[P.iface[p]]) {
         // Thermal pressurization: the band takes its share of the frictional work at its nodes,
         // (1 - r) sum N_I W_I (J/m^2; the particles at a node share its work by N_I A^p (1 - r),
         // so the heat is the interface's dissipation and a band whose pore pressure has reached
         // its normal stress, carrying no friction, takes none); its mean rises go to the pool's
         // header for the next scatter and the output.
         const BandGrid& band = *setup_.bands[P.iface[p]];
-        band.step(state + pore_header, (1.0 - ratio) * gather(N.heat), dt);
-        state[0] = band.mean_temperature(state + pore_header);
-        state[1] = band.mean_pressure(state + pore_header);
+        band.step(state.band(), (1.0 - ratio) * gather(N.heat), dt);
+        state.temperature_rise() = band.mean_temperature(state.band());
+        state.pressure_rise() = band.mean_pressure(state.band());
       }
     }
   }
