@@ -7,6 +7,7 @@
 #include "talus/output/progress.hpp"
 #include "talus/output/results_monitor.hpp"
 #include "talus/output/run_writer.hpp"
+#include "talus/output/simulation_archive.hpp"
 #include "talus/parallel/processes.hpp"
 #include "talus/parallel/stepper.hpp"
 #include "talus/solver.hpp"
@@ -132,7 +133,7 @@ public:
   void serialize(Ar& ar) {
     bool started = monitor_.has_value();
     auto state = [&] {
-      sim_.serialize(ar, opt_.out_dir);
+      serialize_state(ar, sim_, opt_.out_dir);
       ar.io(settle_ke_), ar.io(stepping_), ar.io(frame_);
       ar.io(started);
     };

@@ -9,7 +9,6 @@
 #include "talus/contact_record.hpp"
 #include "talus/grid.hpp"
 #include "talus/nodes.hpp"
-#include "talus/output/checkpoint.hpp"
 #include "talus/parallel/exchange.hpp"
 #include "talus/particles.hpp"
 #include "talus/pore_pool.hpp"
@@ -168,43 +167,9 @@ public:
   // Index of the particle nearest `point` in body b (for probes).
   std::size_t nearest_particle(int body, const Vec<D>& point) const;
 
-  // Saves or restores everything that evolves (particles, clocks, last step's forces): a restored
-  // simulation continues bitwise as the saved one would have. The rest is rebuilt from the case.
-  template <class Ar>
-  void serialize(Ar& ar, const std::string& source) {
-    if constexpr (Ar::loading) {
-      // The whole case's body ranges; the particles are all of them, or on several processes
-      // this process's slab (LoadArchive::set_choose).
-      const std::vector<std::size_t> whole = case_body_begin();
-      io_expect(ar, whole, "bodies and particle counts", source);
-      ar.particles(particles_, whole);
-      invalidate_shape();
-      particles_checked_ = false;
-      // The map from id to index, from the ids (each once, within the case's).
-      std::fill(index_of_id_.begin(), index_of_id_.end(), std::uint32_t(-1));
-      for (std::size_t p = 0; p < particles_.size(); ++p) {
-        const std::uint32_t id = particles_.id[p];
-        if (id >= index_of_id_.size() || index_of_id_[id] != std::uint32_t(-1))
-          throw CheckpointError(source + ": corrupt checkpoint (particle ids)");
-        index_of_id_[id] = static_cast<std::uint32_t>(p);
-      }
-    } else {
-      ar.particles(particles_); // on several processes, the whole state's, gathered
-    }
-    ar.io(time_), ar.io(dt_), ar.io(dt_reference_), ar.io(steps_), ar.io(settling_);
-    ar.io(record_.force_), ar.io(record_.interface_force);
-    ar.io(record_.impulse_), ar.io(record_.interface_impulse), ar.io(record_.impulse_time);
-    ar.io(record_.work), ar.io(internal_work_), ar.io(strain_energy0_), ar.io(pore_.data);
-    // The last step's contact nodes, for a frame written before the next step (the release
-    // after a restart from the checkpoint at the end of settling).
-    std::vector<double> nodes;
-    if constexpr (!Ar::loading) nodes = flatten(contact_nodes());
-    ar.io(nodes);
-    if (nodes.size() % (3 * D + 4) != 0)
-      throw CheckpointError(source + ": corrupt checkpoint (contact nodes)");
-    if constexpr (Ar::loading) record_.restore_nodes(unflatten<D>(nodes));
-    drop_held_fields(); // rescattered from the restored particles: the same sums
-  }
+  // A checkpoint's reading and writing of the state (output/simulation_archive.hpp).
+  template <class Ar, int E>
+  friend void serialize_state(Ar& ar, Simulation<E>& sim, const std::string& source);
 
   // Initial conditions that a case file cannot express (tests set a velocity field here).
   Particles<D>& particles_mut() {

@@ -3,6 +3,7 @@
 // held field, orphans, the wet Vaiont's pore pool, a 3D case) stepped by Distributed gives the
 // committed hash of one process, with the slabs rebalanced inside the run; and a run on fewer
 // processes, checkpointed mid-way, continues on all of them to the same hash.
+#include "talus/output/simulation_archive.hpp"
 #include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/distributed.hpp"
 #include "talus/parallel/processes.hpp"
@@ -128,7 +129,7 @@ Outcome run_distributed(const Case& c, const GoldenCase& g, int split) {
     advance(dist, g, 0, split);
     dist.with_whole_state([&](Simulation<D>& whole) {
       SaveArchive ar;
-      whole.serialize(ar, "memory");
+      serialize_state(ar, whole, "memory");
       bytes = ar.bytes();
     });
     MPI_Comm_free(&first);
@@ -144,7 +145,7 @@ Outcome run_distributed(const Case& c, const GoldenCase& g, int split) {
   LoadArchive in(bytes, "memory");
   RestoredShare share;
   choose_slab<D>(in, sim.grid(), sim.setup().normal_smoothing, MPI_COMM_WORLD, share, start<D>);
-  sim.serialize(in, "memory");
+  serialize_state(in, sim, "memory");
   EXPECT_TRUE(in.done());
   Distributed<D> dist(sim, MPI_COMM_WORLD, std::move(share.bounds), std::move(seeding.body_begin),
                       rebalance_every, std::move(share.rows));
@@ -298,7 +299,7 @@ TEST(Restart, AReadThatFailsOnOneProcessFailsOnAll) {
   {
     Simulation<2> whole(c);
     SaveArchive ar;
-    whole.serialize(ar, "memory");
+    serialize_state(ar, whole, "memory");
     bytes = ar.bytes();
   }
   if (world_rank() == world_size() - 1) bytes.resize(bytes.size() / 2);
@@ -309,7 +310,7 @@ TEST(Restart, AReadThatFailsOnOneProcessFailsOnAll) {
   choose_slab<2>(in, sim.grid(), sim.setup().normal_smoothing, MPI_COMM_WORLD, share);
   std::string error;
   try {
-    agreed<CheckpointError>([&] { sim.serialize(in, "memory"); });
+    agreed<CheckpointError>([&] { serialize_state(in, sim, "memory"); });
   } catch (const CheckpointError& e) {
     error = e.what();
   }

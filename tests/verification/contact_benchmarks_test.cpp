@@ -1,6 +1,7 @@
 // Multi-body contact benchmarks (paper sections 3.1-3.2) against their closed forms, and the
 // conservation checks of a head-on collision.
 #include "talus/output/checkpoint.hpp"
+#include "talus/output/simulation_archive.hpp"
 #include "talus/solver.hpp"
 #include "test_support.hpp"
 
@@ -193,7 +194,7 @@ TEST(FixedBodies, HeldFieldIsBitwiseTheFieldScatteredEveryStep) {
     every.step(1.0);
     if (saved.empty() && held.time() >= 0.3) {
       SaveArchive ar;
-      held.serialize(ar, "memory");
+      serialize_state(ar, held, "memory");
       saved = ar.bytes();
     }
   }
@@ -201,7 +202,7 @@ TEST(FixedBodies, HeldFieldIsBitwiseTheFieldScatteredEveryStep) {
   EXPECT_TRUE(held.fixed_field_cached(1));  // the plane
   Simulation<2> restored(c);
   LoadArchive in(saved, "memory");
-  restored.serialize(in, "memory");
+  serialize_state(in, restored, "memory");
   while (restored.steps() < held.steps())
     restored.step(1.0);
   const auto &A = held.particles(), &B = every.particles(), &R = restored.particles();

@@ -5,6 +5,7 @@
 
 #include "talus/case/parse.hpp"
 #include "talus/output/checkpoint.hpp"
+#include "talus/output/simulation_archive.hpp"
 #include "talus/solver.hpp"
 
 #include <cstdint>
@@ -91,10 +92,10 @@ std::uint64_t run_case(const Case& c, const GoldenCase& g, int restart_at) {
   for (int s = 0; s < total; ++s) {
     if (s == restart_at) {
       SaveArchive out;
-      sim->serialize(out, "memory");
+      serialize_state(out, *sim, "memory");
       sim = std::make_unique<Simulation<D>>(c);
       LoadArchive in(out.bytes(), "memory");
-      sim->serialize(in, "memory");
+      serialize_state(in, *sim, "memory");
     }
     if (s == g.settle_steps && g.settle_steps > 0) sim->release();
     sim->step(1.0);

@@ -145,6 +145,16 @@ Material read_material(TableReader& r) {
           "must be >= 1 Pa (a solid; softer than that the time step exceeds any run)");
   const double nu = r.number("poisson_ratio");
   require(r, "poisson_ratio", nu >= 0.0 && nu < 0.5, "must be in [0, 0.5)");
+  // Another model's keys, named as such if given.
+  const std::string plastic = fmt::format(
+      "a key of models drucker_prager and mohr_coulomb, not of model '{}': set model or remove it",
+      model);
+  for (const char* key : {"friction_angle", "dilation_angle", "cohesion", "tension_cutoff",
+                          "softening_strain", "residual_cohesion", "residual_friction_angle"})
+    if (model == "linear_elastic") r.belongs_elsewhere(key, plastic);
+  if (model != "drucker_prager")
+    r.belongs_elsewhere("match",
+                        fmt::format("a key of model drucker_prager, not of model '{}'", model));
   if (model == "linear_elastic") {
     m.model = LinearElastic{density, E, nu};
   } else if (model == "drucker_prager") {

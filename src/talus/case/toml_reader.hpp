@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <fmt/format.h>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -99,11 +100,22 @@ public:
     if (!n->is_boolean()) fail(key, fmt::format("expected true or false, got {}", type_name(*n)));
     return n->value<bool>().value();
   }
+  // A string of printable characters: a control character (C0, DEL or C1: a NUL, a line break,
+  // a terminal escape sequence) would reach the terminal, the CSVs and the JSON raw.
   std::string string(const std::string& key) {
     const toml::node* n = find(key);
     if (!n) fail_missing(key);
     if (!n->is_string()) fail(key, fmt::format("expected a string, got {}", type_name(*n)));
-    return n->value<std::string>().value();
+    std::string s = n->value<std::string>().value();
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const auto c = static_cast<unsigned char>(s[i]);
+      const bool c1 = c == 0xC2 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) < 0xA0;
+      if (c < 0x20 || c == 0x7F || c1)
+        fail(key, fmt::format("holds a control character (byte {} of the string, U+{:04X}): "
+                              "names, titles and file names are printable text",
+                              i + 1, c1 ? static_cast<unsigned char>(s[i + 1]) : c));
+    }
+    return s;
   }
   std::string string(const std::string& key, const std::string& fallback) {
     return has(key) ? string(key) : fallback;
@@ -142,14 +154,21 @@ public:
     return n->as_array();
   }
 
+  // A key this table does not take in its present form, but another form of it does (a key
+  // of another material model): finish() names that form instead of "unknown key".
+  void belongs_elsewhere(const std::string& key, std::string where) {
+    elsewhere_[key] = std::move(where);
+  }
+
   // Reports the first key that no one asked for.
   void finish() const {
     std::vector<std::string> known(known_.begin(), known_.end());
     for (auto&& [k, v] : t_) {
       const std::string name(k.str());
-      if (!known_.count(name))
-        where_.fail(k.source().begin.line ? k.source() : v.source(), key_path(name),
-                    "unknown key" + suggest(name, known));
+      if (known_.count(name)) continue;
+      const auto other = elsewhere_.find(name);
+      where_.fail(k.source().begin.line ? k.source() : v.source(), key_path(name),
+                  other != elsewhere_.end() ? other->second : "unknown key" + suggest(name, known));
     }
   }
 
@@ -198,6 +217,7 @@ private:
   std::string path_;
   const Where& where_;
   std::set<std::string> known_;
+  std::map<std::string, std::string> elsewhere_; // belongs_elsewhere
 };
 
 // Each [[section]] entry as a reader with path "section[i]".
