@@ -11,6 +11,7 @@
 #include "talus/parallel/processes.hpp"
 #include "talus/parallel/stepper.hpp"
 #include "talus/solver.hpp"
+#include "talus/solver/diagnostics.hpp"
 #include "talus/threads.hpp"
 
 #include <chrono>
@@ -160,7 +161,7 @@ private:
   // The writer (rank 0) and the monitor (every process: its step figures are collective), from
   // the probes' particles and the totals of the state now (collective).
   void start_output() {
-    std::vector<std::uint32_t> ids = sim_.probe_ids();
+    std::vector<std::uint32_t> ids = probe_ids(sim_);
     const FrameTotals<D> totals = frame_totals(sim_, ids);
     on_rank_zero([&] {
       check_folder();
@@ -189,8 +190,13 @@ private:
         error = e.what();
       }
     on_rank_zero([&] {
-      if (!error.empty()) throw OutputError(error);
-      writer_->write_frame(sim_, totals, nodes);
+      try {
+        if (!error.empty()) throw OutputError(error);
+        writer_->write_frame(sim_, totals, nodes);
+      } catch (const OutputError&) {
+        check_folder(); // a folder removed while the frame was written: say so
+        throw;
+      }
     });
     sim_.reset_force_means();
     write_running_summary(&totals);
@@ -214,11 +220,16 @@ private:
     const nlohmann::json figures = results(totals);
     on_rank_zero([&] {
       check_folder();
-      if (writer_)
-        writer_->write_summary(sim_, "running", wall, stepping_, threads_, message, figures);
-      else
-        RunWriter<D>(opt_.out_dir, sim_, {})
-            .write_summary(sim_, "running", wall, stepping_, threads_, message, figures);
+      try {
+        if (writer_)
+          writer_->write_summary(sim_, "running", wall, stepping_, threads_, message, figures);
+        else
+          RunWriter<D>(opt_.out_dir, sim_, {})
+              .write_summary(sim_, "running", wall, stepping_, threads_, message, figures);
+      } catch (const OutputError&) {
+        check_folder(); // removed while it was written: say so
+        throw;
+      }
     });
   }
 

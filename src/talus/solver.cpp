@@ -1,6 +1,7 @@
 #include "talus/solver.hpp"
 
 #include "talus/solver/detail.hpp"
+#include "talus/solver/diagnostics.hpp"
 
 #include <cmath>
 #include <fmt/format.h>
@@ -68,7 +69,7 @@ void Simulation<D>::set_energy_baseline() {
   const int B = num_bodies();
   std::vector<ExactSum> gravity(B), strain(B);
   for (int b = 0; b < B; ++b)
-    add_energy_terms(b, true, gravity[b], strain[b]);
+    add_energy_terms(*this, b, true, gravity[b], strain[b]);
   if (exchange_) exchange_->sum_exact(strain.data(), strain.size());
   strain_energy0_.resize(B);
   for (int b = 0; b < B; ++b)
@@ -181,88 +182,6 @@ double Simulation<D>::band_temperature(std::size_t p) const {
   if (P.pore[p] < 0 || !setup_.bands[P.iface[p]]) return std::numeric_limits<double>::quiet_NaN();
   return setup_.interfaces[P.iface[p]].thermal_pressurization->temperature +
          pore_.at(P.pore[p]).temperature_rise();
-}
-
-namespace {
-
-// A particle's elastic energy, V (p^2 / 2K + J2 / 2G).
-double elastic_energy(const Voigt& stress, double vol, double K, double G) {
-  const double mean = mean_stress(stress);
-  return vol * (0.5 * mean * mean / K + 0.5 * second_invariant(deviator(stress)) / G);
-}
-
-} // namespace
-
-// Gravity's work since release, m g . (x - x0), and below a water level the buoyancy's,
-// rho_w / rho m g (H(z0) - H(z)) (water.hpp); the elastic energy V (p^2 / 2K + J2 / 2G).
-template <int D>
-void Simulation<D>::add_energy_terms(int b, bool own_only, ExactSum& gravity,
-                                     ExactSum& strain) const {
-  const auto& P = particles_;
-  const WaterSetup<D>& W = setup_.water;
-  const BodySetup<D>& body = setup_.bodies[b];
-  const bool buoyant = W.on && body.buoyancy > 0.0;
-  const double K = std::visit([](const auto& m) { return m.bulk_modulus(); }, body.material.model);
-  const double G = std::visit([](const auto& m) { return m.shear_modulus(); }, body.material.model);
-  for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
-    if (own_only && !is_own(p)) continue;
-    gravity += P.m[p] * setup_.gravity.dot(P.x[p] - P.x0[p]);
-    if (buoyant)
-      gravity += body.buoyancy * P.m[p] * W.g *
-                 (submerged_integral(W.level, W.up.dot(P.x0[p]), body.particle_height) -
-                  submerged_integral(W.level, W.up.dot(P.x[p]), body.particle_height));
-    if (!body.rigid) strain += elastic_energy(P.stress[p], P.vol[p], K, G);
-  }
-}
-
-template <int D>
-double Simulation<D>::gravity_work(int b) const {
-  ExactSum gravity, strain;
-  add_energy_terms(b, false, gravity, strain);
-  return gravity.value();
-}
-
-template <int D>
-double Simulation<D>::strain_energy(int b) const {
-  ExactSum gravity, strain;
-  add_energy_terms(b, false, gravity, strain);
-  return strain.value();
-}
-
-// Each process's nearest own particle, then the least distance over the processes and, among
-// the processes at that distance, the least id.
-template <int D>
-std::vector<std::uint32_t> Simulation<D>::probe_ids() const {
-  const auto& P = particles_;
-  const std::vector<ProbeSpec>& probes = case_data_.probes;
-  const int K = static_cast<int>(probes.size());
-  std::vector<double> d2(K, inf), id(K, inf);
-  for (int k = 0; k < K; ++k) {
-    Vec<D> near;
-    for (int d = 0; d < D; ++d)
-      near[d] = probes[k].near[d];
-    for (std::size_t p = P.body_begin[probes[k].body]; p < P.body_begin[probes[k].body + 1]; ++p) {
-      const double q = (P.x[p] - near).squaredNorm();
-      if (is_own(p) && (q < d2[k] || (q == d2[k] && P.id[p] < id[k]))) d2[k] = q, id[k] = P.id[p];
-    }
-  }
-  if (exchange_ && K > 0) {
-    std::vector<double> least(d2), unused(d2);
-    exchange_->min_max(least.data(), unused.data(), K);
-    for (int k = 0; k < K; ++k)
-      if (d2[k] != least[k]) id[k] = inf; // another process holds a nearer particle
-    unused = id;
-    exchange_->min_max(id.data(), unused.data(), K);
-  }
-  std::vector<std::uint32_t> ids;
-  for (int k = 0; k < K; ++k)
-    ids.push_back(static_cast<std::uint32_t>(id[k]));
-  return ids;
-}
-
-template <int D>
-std::size_t Simulation<D>::nearest_particle(int body, const Vec<D>& point) const {
-  return talus::nearest_particle(particles_, body, point);
 }
 
 template class Simulation<2>;

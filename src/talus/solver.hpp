@@ -84,21 +84,12 @@ public:
     gathered_nodes_ = std::move(nodes);
   }
 
-  // Energy budget of body b since release (or the start, without settling), J (per unit thickness
-  // in 2D): the work of gravity, of the contact and interface forces (the kinetic energy they add
-  // at the nodes; negative when they brake), of the stresses (integral of sigma : D dV dt, the
-  // elastic energy stored plus the plastic work) and the elastic energy held now. With the kinetic
-  // energy, what does not balance is the scheme's own dissipation and the work of the grid
-  // conditions.
-  // gravity_work and strain_energy sum the particles this Simulation holds (exact_sum.hpp): on
-  // several processes, add_energy_terms' own particles' terms summed over the processes.
-  double gravity_work(int b) const;
+  // The energy the step accumulates for body b's budget since release (or the start), J (per
+  // unit thickness in 2D): the work of the contact and interface forces (negative when they
+  // brake) and of the stresses (integral of sigma : D dV dt). The rest of the budget (gravity's
+  // work, the elastic energy) is read from the particles: solver/diagnostics.hpp.
   double contact_work(int b) const { return record_.work[b]; }
   double internal_work(int b) const { return internal_work_[b]; }
-  double strain_energy(int b) const;
-  // Adds body b's gravity work and elastic energy terms to `gravity` and `strain`: of every
-  // particle held, or (own_only, on several processes) of this process's own.
-  void add_energy_terms(int b, bool own_only, ExactSum& gravity, ExactSum& strain) const;
   // Whether particle p counts in this process's sums: on one process every particle does.
   bool is_own(std::size_t p) const { return !exchange_ || exchange_->is_own(p); }
   // Particle p's index on one process (as errors name it, on any number of processes).
@@ -161,11 +152,6 @@ public:
   }
   // Current index of the particle with stable id `id`.
   std::size_t index_of(std::uint32_t id) const { return index_of_id_[id]; }
-  // Stable ids of the case's probes: the particle of the probe's body nearest its point now
-  // (of equals, the least id). Collective on several processes.
-  std::vector<std::uint32_t> probe_ids() const;
-  // Index of the particle nearest `point` in body b (for probes).
-  std::size_t nearest_particle(int body, const Vec<D>& point) const;
 
   // A checkpoint's reading and writing of the state (output/simulation_archive.hpp).
   template <class Ar, int E>

@@ -11,7 +11,7 @@
 - a device, a FIFO, a folder or a VRT as an input file is refused at once (exit 2);
 - a folder, link or FIFO named like a checkpoint is neither read nor pruned in a real one's place;
 - SIGHUP stops a run with a checkpoint, as SIGINT does; --max-steps counts from a restart;
-- the process is named talus in ps.
+- the process is named talus in ps, and runs with OpenMP's passive wait policy.
 
 Usage: run_folder_safety_test.py TALUS SOURCE_DIR WORK_DIR
 """
@@ -207,6 +207,10 @@ p = start(case, "--out", hup, *endless)
 wait_for(hup / "particles_000001.vtu", 60)
 comm = Path(f"/proc/{p.pid}/comm").read_text().strip() if p.poll() is None else ""
 check(comm == "talus", f"the process is named talus in ps (comm {comm!r})")
+# Idle OpenMP threads sleep: the program re-executes itself with OMP_WAIT_POLICY=passive.
+environ = Path(f"/proc/{p.pid}/environ").read_bytes().split(b"\0") if p.poll() is None else []
+check(b"OMP_WAIT_POLICY=passive" in environ or "OMP_WAIT_POLICY" in os.environ,
+      "the run's OpenMP threads wait passively (OMP_WAIT_POLICY=passive in its environment)")
 p.send_signal(signal.SIGHUP)
 p.wait(timeout=60)
 s = json.loads((hup / "summary.json").read_text())

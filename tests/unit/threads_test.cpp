@@ -1,7 +1,6 @@
 #include "talus/threads.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 #include <gtest/gtest.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -10,13 +9,6 @@
 
 namespace talus {
 namespace {
-
-// The test program ran through share_cores: OpenMP's idle threads sleep (unless the caller
-// chose a policy, which is kept).
-TEST(ShareCores, TheProgramRunsWithAWaitPolicy) {
-  const char* policy = std::getenv("OMP_WAIT_POLICY");
-  ASSERT_TRUE(policy != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr);
-}
 
 // One thread per particles_per_thread particles, at least one, at most the cores; a request wins.
 TEST(SetThreads, ByTheProblemsSizeUnlessRequested) {

@@ -7,6 +7,7 @@
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/simulation_archive.hpp"
 #include "talus/solver.hpp"
+#include "talus/solver/diagnostics.hpp"
 
 #include <cstdint>
 #include <cstdlib>
@@ -61,8 +62,8 @@ std::uint64_t state_hash(const Simulation<D>& sim) {
     H.add(M.cohesive), H.add(M.frictional), H.add(M.normal);
   }
   for (int b = 0; b < B; ++b) {
-    H.add(sim.gravity_work(b)), H.add(sim.contact_work(b)), H.add(sim.internal_work(b));
-    H.add(sim.strain_energy(b)), H.add(sim.strain_energy_at_release(b));
+    H.add(gravity_work(sim, b)), H.add(sim.contact_work(b)), H.add(sim.internal_work(b));
+    H.add(strain_energy(sim, b)), H.add(sim.strain_energy_at_release(b));
   }
   for (const ContactNodeForce<D>& n : sim.contact_nodes()) {
     for (int d = 0; d < D; ++d)

@@ -1,6 +1,7 @@
 // Orphan particles (contact.orphan_fraction, docs/formulation.md): a particle of one body cut
 // off from it inside another deformable body maps to that body's field and moves with it; the
 // particles of a clean interface between two bodies never do; momentum is conserved throughout.
+#include "talus/seeding.hpp"
 #include "talus/solver.hpp"
 #include "test_support.hpp"
 
@@ -66,7 +67,7 @@ std::size_t embed_lone_particle(Simulation<2>& sim) {
   EXPECT_EQ(P.body_begin[2] - P.body_begin[1], 1u) << "the lone body must be one particle";
   const std::size_t lone = P.body_begin[1];
   const Vec<2> middle = 0.5 * (P.x[0] + P.x[P.body_begin[1] - 1]);
-  const std::size_t host = sim.nearest_particle(0, middle);
+  const std::size_t host = nearest_particle(sim.particles(), 0, middle);
   std::swap(P.x[lone], P.x[host]);
   std::swap(P.x0[lone], P.x0[host]);
   return lone;

@@ -1,6 +1,7 @@
 #include "talus/output/frame_totals.hpp"
 
 #include "talus/exact_sum.hpp"
+#include "talus/solver/diagnostics.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -61,7 +62,7 @@ FrameTotals<D> frame_totals(const Simulation<D>& sim, const std::vector<std::uin
       }
       max_speed = std::max(max_speed, speed);
     }
-    sim.add_energy_terms(b, true, S.gravity(), S.strain());
+    add_energy_terms(sim, b, true, S.gravity(), S.strain());
   }
   // The interfaces' particles on their own body's field.
   for (std::size_t p = 0; p < P.size(); ++p) {
