@@ -8,4 +8,10 @@ if [ "${1:-}" = "--fix" ]; then
   exit 0
 fi
 clang-format --dry-run --Werror $files
+# The layout's direction rests on every library header being included by its full name
+# (talus/<library>/...): a relative include would reach past the include roots.
+if git grep -n '#include "' -- 'src/talus/*' | grep -v '#include "talus/'; then
+  echo "include the headers above by their full name, talus/<library>/..." >&2
+  exit 1
+fi
 echo "clang-format: $(echo "$files" | wc -w) files clean"

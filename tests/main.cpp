@@ -1,6 +1,6 @@
 // The test programs' main: idle OpenMP threads sleep (talus::share_cores), so that tests run
 // side by side (ctest -j) do not spin against each other, then GoogleTest.
-#include "talus/threads.hpp"
+#include "talus/core/threads.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
 #include "bench.hpp"
 
 #include "talus/case/parse.hpp"
-#include "talus/memory_usage.hpp"
+#include "talus/core/memory_usage.hpp"
+#include "talus/core/threads.hpp"
 #include "talus/output/files.hpp"
 #include "talus/parallel/processes.hpp"
 #include "talus/parallel/stepper.hpp"
-#include "talus/run.hpp"
-#include "talus/threads.hpp"
+#include "talus/run/run.hpp"
 
 #include <chrono>
 #include <fmt/format.h>
@@ -56,7 +56,8 @@ int run_bench(const BenchOptions& opt) {
   for (const Problem& pb : all) {
     if (std::find(opt.problems.begin(), opt.problems.end(), pb.name) == opt.problems.end())
       continue;
-    const Case c = parse_case_file(opt.source_dir + "/" + pb.file, pb.overrides);
+    const Case c =
+        parse_case_file(opt.source_dir + "/" + pb.file, pb.overrides, this_machine_budget());
     // One thread count's measurement, in the case's dimension.
     auto measure = [&]<int D>(int threads) {
       reset_peak_rss();

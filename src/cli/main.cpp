@@ -3,13 +3,14 @@
 #include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
 #include "talus/case/size.hpp"
-#include "talus/interface.hpp"
+#include "talus/core/threads.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/files.hpp"
 #include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/processes.hpp"
-#include "talus/run.hpp"
-#include "talus/threads.hpp"
+#include "talus/run/run.hpp"
+#include "talus/setup/interface.hpp"
+#include "talus/setup/seeds.hpp"
 #include "talus/version.hpp"
 
 #include <CLI/CLI.hpp>
@@ -279,7 +280,8 @@ int main(int argc, char** argv) {
   try {
     // Every process reads the case; a check that fails on one machine alone (its memory) stops
     // them all, and rank 0 reports the first failing process's error.
-    talus::agreed<talus::CaseError>([&] { c = talus::parse_case_file(case_file, overrides); });
+    talus::agreed<talus::CaseError>(
+        [&] { c = talus::parse_case_file(case_file, overrides, talus::this_machine_budget()); });
   } catch (const talus::CaseError& e) {
     if (talus::process_rank() == 0) fmt::print(stderr, "error: {}\n", e.what());
     return 2;

@@ -7,7 +7,7 @@
 // that went bad, reported with its particle) is a bug, as is any sanitizer report.
 #include "talus/case/parse.hpp"
 #include "talus/case/size.hpp"
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <cstdint>
 #include <cstdio>

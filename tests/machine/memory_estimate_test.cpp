@@ -3,8 +3,9 @@
 #include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
 #include "talus/case/size.hpp"
-#include "talus/memory_usage.hpp"
-#include "talus/solver.hpp"
+#include "talus/core/memory_usage.hpp"
+#include "talus/setup/seeds.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <gtest/gtest.h>
 #include <string>

@@ -1,7 +1,7 @@
 // Axial vibration of an elastic bar in its first mode (cases/benchmarks/bar_vibration.toml): the
 // centre-of-mass velocity follows (2 v0 / pi) cos(omega t) within 2 % of its amplitude over about
 // three periods, in 2D (plane strain, nu = 0) and in 3D.
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <cmath>

@@ -2,8 +2,8 @@
 // conservation checks of a head-on collision.
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/simulation_archive.hpp"
-#include "talus/solver.hpp"
 #include "talus/solver/diagnostics.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <cmath>

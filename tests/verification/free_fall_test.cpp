@@ -1,6 +1,6 @@
 // Free fall: a body with no support falls x = g t^2 / 2 and v = g t to round-off, in 2D and 3D,
 // for every scheme (the position update uses the mean of v^n and v^{n+1}).
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <fmt/format.h>

@@ -1,7 +1,7 @@
 // A block sliding on a Coulomb wall (the grid's base face with friction mu) decelerates at mu g:
 // x(t) = v0 t - mu g t^2 / 2 until it stops at v0^2 / (2 mu g).
 // (The contact benchmarks of the multi-body issue use bodies, not this grid wall.)
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <fmt/format.h>

@@ -6,8 +6,8 @@
 #include "talus/case/parse.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/simulation_archive.hpp"
-#include "talus/solver.hpp"
 #include "talus/solver/diagnostics.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <cstdint>
 #include <cstdlib>

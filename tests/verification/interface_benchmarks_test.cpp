@@ -1,7 +1,7 @@
 // Cohesive-frictional interfaces (paper sections 2.4 and 3.3) against closed forms: the cohesive
 // sliding block, a block held by cohesion alone, and a block whose friction and cohesion degrade
 // with slip (integrated here through the degradation).
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <array>

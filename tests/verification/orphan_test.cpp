@@ -1,8 +1,8 @@
 // Orphan particles (contact.orphan_fraction, docs/formulation.md): a particle of one body cut
 // off from it inside another deformable body maps to that body's field and moves with it; the
 // particles of a clean interface between two bodies never do; momentum is conserved throughout.
-#include "talus/seeding.hpp"
-#include "talus/solver.hpp"
+#include "talus/setup/seeding.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <cmath>

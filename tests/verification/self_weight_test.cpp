@@ -1,7 +1,7 @@
 // An elastic column under its own weight, damped to rest
 // (cases/benchmarks/self_weight_column.toml): sigma_yy = -rho g (H - y) and sigma_xx = nu / (1 -
 // nu) sigma_yy within 2 % of rho g H.
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <cmath>

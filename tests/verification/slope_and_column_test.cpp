@@ -3,7 +3,7 @@
 // and passes at toe level, at two resolutions. Column collapse: the block must keep an undisturbed
 // wedge against the wall (height there stays 0.1 m) while the rest runs out. Measured figures
 // are printed and recorded in docs/verification.md.
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <cmath>

@@ -5,7 +5,7 @@
 // centre, inside its base), and tips off the lower block once its centre nears the edge
 // (about 0.43 m of sliding, t = 0.415 s).
 #include "talus/case/parse.hpp"
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <cmath>
 #include <cstdio>

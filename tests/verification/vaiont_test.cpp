@@ -2,7 +2,7 @@
 // slide must be nearly at rest, then move, reach a peak speed and stop. The figures are printed;
 // docs/vaiont.md compares them with the paper and the literature ranges (which they miss: the
 // slide is slower and travels less, see there).
-#include "talus/run.hpp"
+#include "talus/run/run.hpp"
 #include "test_support.hpp"
 
 #include <cmath>

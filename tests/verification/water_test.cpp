@@ -1,8 +1,8 @@
 // Water (docs/formulation.md, "Water"): below a hydrostatic level a particle weighs its buoyant
 // weight, so a block sliding on a submerged plane and a block entering the water follow the
 // closed forms of the effective-stress equations of motion.
-#include "talus/solver.hpp"
 #include "talus/solver/diagnostics.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <cmath>

@@ -2,11 +2,11 @@
 // in degrees. docs/case-file.md documents each key; parse_case() fills and validates it.
 #pragma once
 
-#include "talus/band.hpp"
 #include "talus/case/input_files.hpp"
 #include "talus/case/terrain.hpp"
-#include "talus/materials/material.hpp"
-#include "talus/shape.hpp"
+#include "talus/core/shape.hpp"
+#include "talus/physics/band.hpp"
+#include "talus/physics/materials/material.hpp"
 
 #include <array>
 #include <limits>
@@ -97,7 +97,7 @@ struct Degradation {
 };
 
 // A cohesive-frictional interface between two bodies (paper section 2.4).
-// Thermal pressurization of an interface's shear band (band.hpp): its properties and the
+// Thermal pressurization of an interface's shear band (physics/band.hpp): its properties and the
 // band's temperature before the slide (for output; the model works with the rise).
 struct ThermalPressurization {
   BandProperties band;

@@ -6,8 +6,6 @@
 #include "talus/case/run_entries.hpp"
 #include "talus/case/size.hpp"
 #include "talus/case/toml_reader.hpp"
-#include "talus/parallel/decomposition.hpp"
-#include "talus/parallel/processes.hpp"
 
 #include <toml++/toml.h>
 
@@ -199,16 +197,16 @@ void read_terrain_settings(TableReader& root, Case& c) {
 }
 
 // [[body]]: the bodies (at least one), each inside the grid and within the machine's memory.
-void read_bodies(TableReader& root, Case& c, InputFiles& files) {
+void read_bodies(TableReader& root, Case& c, InputFiles& files, const MemoryBudget& budget) {
   const int dim = c.simulation.dimension;
   std::vector<std::string> body_names;
   const std::vector<std::string> material_names = names_of(c.materials);
-  // On several processes each holds its slab of the particles and fields, with its ghosts: the
-  // processes on this machine hold `share` of them; the grid is counted whole on each.
-  const int here = processes_on_this_node();
+  // On several processes the processes on this machine hold `share` of the particles and
+  // fields (MemoryBudget); the grid is counted whole on each.
+  const int here = budget.processes_here, processes = budget.processes;
+  const double available = budget.bytes > 0.0 ? budget.bytes : machine_memory();
   const double grid = grid_nodes(c.grid, dim) * bytes_per_grid_node * here;
-  const double share =
-      node_memory_share(c.grid.extent[0] / c.grid.cell_size, ghost_columns(max_normal_smoothing));
+  const double share = budget.share ? budget.share(c.grid.extent[0] / c.grid.cell_size) : 1.0;
   double memory = 0.0;
   for_each_entry(root, "body", [&](TableReader& r, std::size_t) {
     BodySpec b;
@@ -274,17 +272,16 @@ void read_bodies(TableReader& root, Case& c, InputFiles& files) {
                   bytes_per_particle(dim) +
               field_nodes(lo, hi, dim, c.grid.cell_size) *
                   bytes_per_field_node(dim, true, c.simulation.scheme == Scheme::musl, 1);
-    if (const double need = grid + share * memory; need > machine_memory())
+    if (const double need = grid + share * memory; need > available)
       r.fail("particles_per_cell",
              fmt::format("the case needs about {:.3g} GB up to this body{}, more than this "
                          "machine's {:.3g} GB: use larger grid cells or fewer particles per "
                          "cell{}",
                          need / 1e9,
-                         process_count() > 1 ? fmt::format(" on this machine's {} of {} processes",
-                                                           here, process_count())
-                                             : std::string(),
-                         machine_memory() / 1e9,
-                         process_count() > 1 ? ", or run on more machines" : ""));
+                         processes > 1
+                             ? fmt::format(" on this machine's {} of {} processes", here, processes)
+                             : std::string(),
+                         available / 1e9, processes > 1 ? ", or run on more machines" : ""));
     c.bodies.push_back(std::move(b));
     body_names.push_back(c.bodies.back().name);
   });
@@ -476,7 +473,7 @@ void read_water(TableReader& root, Case& c) {
 } // namespace
 
 Case parse_case_text(const std::string& text, const std::string& path,
-                     const std::vector<std::string>& overrides) {
+                     const std::vector<std::string>& overrides, const MemoryBudget& budget) {
   toml::table doc;
   try {
     doc = toml::parse(text, path);
@@ -513,7 +510,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
 
   read_materials(root, c);
   read_terrain_settings(root, c);
-  read_bodies(root, c, files);
+  read_bodies(root, c, files, budget);
   read_boundaries(root, c);
   read_contact(root, c);
   read_interfaces(root, c);
@@ -531,7 +528,8 @@ Case parse_case_text(const std::string& text, const std::string& path,
   return c;
 }
 
-Case parse_case_file(const std::string& path, const std::vector<std::string>& overrides) {
+Case parse_case_file(const std::string& path, const std::vector<std::string>& overrides,
+                     const MemoryBudget& budget) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw CaseError(fmt::format("{}: {}", path,
@@ -542,7 +540,7 @@ Case parse_case_file(const std::string& path, const std::vector<std::string>& ov
   if (!in) throw CaseError(fmt::format("{}: cannot open the case file", path));
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse_case_text(ss.str(), path, overrides);
+  return parse_case_text(ss.str(), path, overrides, budget);
 }
 
 } // namespace talus

@@ -2,8 +2,8 @@
 
 #include "talus/case/geometry.hpp"
 
-#include "talus/particles.hpp"
-#include "talus/shape.hpp"
+#include "talus/core/particles.hpp"
+#include "talus/core/shape.hpp"
 
 #include <algorithm>
 #include <cmath>

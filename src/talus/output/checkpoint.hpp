@@ -7,9 +7,9 @@
 // payload. A truncated or corrupted file fails its checksum and is skipped for the older one.
 #pragma once
 
+#include "talus/core/particles.hpp"
 #include "talus/output/files.hpp"
 #include "talus/output/particle_order.hpp"
-#include "talus/particles.hpp"
 
 #include <Eigen/Core>
 #include <algorithm>

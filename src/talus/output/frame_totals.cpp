@@ -1,6 +1,6 @@
 #include "talus/output/frame_totals.hpp"
 
-#include "talus/exact_sum.hpp"
+#include "talus/core/exact_sum.hpp"
 #include "talus/solver/diagnostics.hpp"
 
 #include <algorithm>

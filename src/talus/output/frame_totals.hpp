@@ -1,11 +1,11 @@
 // What the run folder's tables record of the state at a frame, summed over the particles: per
 // body its mass, centroid, velocity, speeds and energies, per interface with pore pressure its
 // water figures, and the probes' particles. Formed on every process from its own particles and
-// combined exactly (exact_sum.hpp), so that they are the same bits on any number of processes
+// combined exactly (core/exact_sum.hpp), so that they are the same bits on any number of processes
 // and threads, and no process needs the whole state.
 #pragma once
 
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <cstdint>
 #include <vector>

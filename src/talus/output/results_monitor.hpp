@@ -1,11 +1,11 @@
 // The results monitor of a run (ResultsSpec): the headline figures in summary.json, tracked
 // every step from StepFigures (one process's sums, or the same sums over several processes),
-// and the energy budget of a body. Used by run.cpp only.
+// and the energy budget of a body. Used by run/run.cpp only.
 #pragma once
 
 #include "talus/case/case.hpp"
 #include "talus/output/frame_totals.hpp"
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -5,7 +5,7 @@
 #include "talus/output/frame_totals.hpp"
 #include "talus/output/run_folder.hpp"
 #include "talus/output/vtu.hpp"
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <nlohmann/json.hpp>
 #include <string>

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "talus/output/checkpoint.hpp"
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -3,8 +3,8 @@
 // (.pvd). The writer reads the state; the solver knows no format.
 #pragma once
 
+#include "talus/core/particles.hpp"
 #include "talus/output/particle_order.hpp"
-#include "talus/particles.hpp"
 
 #include <cstdint>
 #include <functional>

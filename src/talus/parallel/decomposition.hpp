@@ -4,7 +4,7 @@
 // process computes the same bounds from the same (globally summed) counts.
 #pragma once
 
-#include "talus/grid.hpp"
+#include "talus/core/grid.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -1,9 +1,9 @@
 #include "talus/parallel/distributed.hpp"
 
+#include "talus/core/particle_sort.hpp"
 #include "talus/parallel/arrays.hpp"
 #include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/seed_share.hpp"
-#include "talus/particle_sort.hpp"
 
 #include <algorithm>
 #include <cstdio>

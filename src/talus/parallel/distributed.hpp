@@ -14,8 +14,8 @@
 
 #include "talus/output/particle_order.hpp"
 #include "talus/parallel/decomposition.hpp"
-#include "talus/parallel/exchange.hpp"
-#include "talus/solver.hpp"
+#include "talus/solver/exchange.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <cstdint>
 #include <mpi.h>

@@ -1,4 +1,4 @@
-// Distributed<D>'s collective points (parallel/exchange.hpp): the calls Simulation makes on
+// Distributed<D>'s collective points (solver/exchange.hpp): the calls Simulation makes on
 // every process at the same places of a step, each giving every process the same bits.
 #include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/distributed.hpp"
@@ -43,7 +43,7 @@ void Distributed<D>::sum_disjoint(double* data, std::size_t n) {
   MPI_Allreduce(MPI_IN_PLACE, data, static_cast<int>(n), MPI_DOUBLE, MPI_SUM, comm_);
 }
 
-// Each sum's words added as integers (exact_sum.hpp): normalized, they cannot overflow.
+// Each sum's words added as integers (core/exact_sum.hpp): normalized, they cannot overflow.
 template <int D>
 void Distributed<D>::sum_exact(ExactSum* sums, std::size_t n) {
   std::vector<std::int64_t> words(n * ExactSum::words);

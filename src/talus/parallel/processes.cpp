@@ -1,5 +1,7 @@
 #include "talus/parallel/processes.hpp"
 
+#include "talus/parallel/decomposition.hpp"
+
 #include "talus/output/files.hpp"
 
 #ifdef TALUS_MPI
@@ -123,8 +125,14 @@ void on_rank_zero(const std::function<void()>& f) {
 }
 #endif
 
-double node_memory_share(double columns, int ghost_columns_each_side) {
-  return memory_share(process_count(), processes_on_this_node(), columns, ghost_columns_each_side);
+MemoryBudget this_machine_budget() {
+  MemoryBudget budget;
+  budget.processes = process_count();
+  budget.processes_here = processes_on_this_node();
+  budget.share = [n = budget.processes, here = budget.processes_here](double columns) {
+    return memory_share(n, here, columns, ghost_columns(max_normal_smoothing));
+  };
+  return budget;
 }
 
 } // namespace talus

@@ -2,6 +2,8 @@
 // without MPI, or when MPI is not initialized.
 #pragma once
 
+#include "talus/case/parse.hpp"
+
 #include <algorithm>
 #include <functional>
 #include <string>
@@ -21,8 +23,9 @@ inline double memory_share(int processes, int here, double columns, int ghost_co
   const double each = 1.0 / processes + 2.0 * ghost_columns_each_side / columns;
   return std::min(1.0, each * here);
 }
-// memory_share for this run's processes on this machine.
-double node_memory_share(double columns, int ghost_columns_each_side);
+// The memory budget (case/parse.hpp) of this run's processes on this machine: the machine's
+// memory, and memory_share with the widest ghost slab (contact.normal_smoothing at its maximum).
+MemoryBudget this_machine_budget();
 
 // The failure (a message; empty: none) of the lowest process that has one, on every process.
 // Collective.

@@ -2,8 +2,9 @@
 
 #include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
-#include "talus/initial_state.hpp"
-#include "talus/interface.hpp"
+#include "talus/setup/initial_state.hpp"
+#include "talus/setup/interface.hpp"
+#include "talus/setup/seeds.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,12 +3,12 @@
 // case's seeds twice (a count per column, then the seeds of its slab and a margin), which costs
 // time of the order of one process's set-up but memory of the slab only. The ids, the bodies'
 // masses, the pore pool's order, the interface marks and every error and warning are those of
-// one process (seeding.hpp).
+// one process (setup/seeding.hpp).
 #pragma once
 
 #include "talus/output/checkpoint.hpp"
 #include "talus/parallel/decomposition.hpp"
-#include "talus/seeding.hpp"
+#include "talus/setup/seeding.hpp"
 
 #include <mpi.h>
 #include <string>

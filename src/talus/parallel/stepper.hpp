@@ -1,11 +1,11 @@
 // Stepper<D>: a run's state and step on one process or on several (MPI), behind one interface.
-// The run loop (run.cpp) and the benchmark speak to it alone; make_stepper is the one place that
+// The run loop (run/run.cpp) and the benchmark speak to it alone; make_stepper is the one place that
 // knows whether the program was built with MPI and how many processes run it.
 #pragma once
 
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/particle_order.hpp"
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <cstdint>
 #include <functional>

@@ -2,8 +2,8 @@
 // the node as the contact law sees it, each body's friction and bond there, the law, and with
 // `record` the forces, work, contact nodes and interface slip rates it leaves behind.
 #include "talus/case/geometry.hpp"
-#include "talus/solver.hpp"
 #include "talus/solver/detail.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,8 @@
 // Helpers shared by the files of the solver's phases (not part of the library's interface).
 #pragma once
 
-#include "talus/contact.hpp"
-#include "talus/parallel/exchange.hpp"
+#include "talus/physics/contact.hpp"
+#include "talus/solver/exchange.hpp"
 
 #include <atomic>
 #include <chrono>

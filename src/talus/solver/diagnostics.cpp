@@ -1,7 +1,7 @@
 #include "talus/solver/diagnostics.hpp"
 
-#include "talus/math.hpp"
-#include "talus/water.hpp"
+#include "talus/core/math.hpp"
+#include "talus/physics/water.hpp"
 
 #include <variant>
 
@@ -18,7 +18,7 @@ double elastic_energy(const Voigt& stress, double vol, double K, double G) {
 } // namespace
 
 // Gravity's work since release, m g . (x - x0), and below a water level the buoyancy's,
-// rho_w / rho m g (H(z0) - H(z)) (water.hpp); the elastic energy V (p^2 / 2K + J2 / 2G).
+// rho_w / rho m g (H(z0) - H(z)) (physics/water.hpp); the elastic energy V (p^2 / 2K + J2 / 2G).
 template <int D>
 void add_energy_terms(const Simulation<D>& sim, int b, bool own_only, ExactSum& gravity,
                       ExactSum& strain) {

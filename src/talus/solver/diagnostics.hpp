@@ -2,8 +2,8 @@
 // from the particles, and the probes' particles. Pure functions of the state, not part of the step.
 #pragma once
 
-#include "talus/exact_sum.hpp"
-#include "talus/solver.hpp"
+#include "talus/core/exact_sum.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <cstdint>
 #include <vector>

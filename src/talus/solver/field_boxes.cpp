@@ -1,7 +1,7 @@
 // Each body's field box: the nodes its particles (and the orphans it hosts) reach this step.
-#include "talus/interface.hpp"
-#include "talus/solver.hpp"
+#include "talus/setup/interface.hpp"
 #include "talus/solver/detail.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -1,9 +1,9 @@
 // G2P: the particles' velocity and position from their field (eq. 22-23), and MUSL's re-map of
 // the updated particles' momentum back onto the nodes.
-#include "talus/interface.hpp"
-#include "talus/solver.hpp"
+#include "talus/setup/interface.hpp"
 #include "talus/solver/detail.hpp"
 #include "talus/solver/scatter.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <algorithm>
 #include <atomic>

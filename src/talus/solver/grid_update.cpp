@@ -1,7 +1,7 @@
 // The grid update (eq. 19-20): nodal velocities from momentum and force, with local damping, and
 // the velocity conditions (the faces' and boxes', and the rigid bodies' prescribed velocities).
-#include "talus/boundary.hpp"
-#include "talus/solver.hpp"
+#include "talus/setup/boundary.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <cmath>
 

@@ -1,8 +1,8 @@
 // The interface history (paper eq. 38-39): each interface particle's
 // slip grows by the slip rate the recorded contact pass measured at its nodes, and its cohesion
 // and friction follow their degradation curves.
-#include "talus/solver.hpp"
 #include "talus/solver/detail.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <algorithm>
 

@@ -1,5 +1,5 @@
 // Orphans (contact.orphan_fraction; docs/formulation.md "Orphan particles").
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,9 +1,9 @@
 // P2G: the particles' mass, momentum, forces and contact data onto their body's field
 // (eq. 14-18, 30, 37), in the coloured slab order that makes the sums thread-count independent.
-#include "talus/interface.hpp"
-#include "talus/solver.hpp"
+#include "talus/setup/interface.hpp"
 #include "talus/solver/detail.hpp"
 #include "talus/solver/scatter.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <algorithm>
 #include <atomic>

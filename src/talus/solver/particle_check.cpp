@@ -1,7 +1,7 @@
 // The particle check: a state the transfers did not make is checked whole; the transfers check
 // what they write, and the step's end reports the first bad particle (step, time, particle).
-#include "talus/solver.hpp"
 #include "talus/solver/detail.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <atomic>
 #include <fmt/format.h>

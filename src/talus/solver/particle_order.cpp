@@ -1,7 +1,7 @@
 // The particle order that makes the scatter deterministic: particles sorted by cell within each
 // body, and binned by slab of cells along x for the coloured scatter.
-#include "talus/particle_sort.hpp"
-#include "talus/solver.hpp"
+#include "talus/core/particle_sort.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <algorithm>
 #include <limits>

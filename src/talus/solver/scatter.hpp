@@ -2,7 +2,7 @@
 // template: defined where those phases are compiled).
 #pragma once
 
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 
 namespace talus {
 

@@ -1,9 +1,9 @@
 // The stress update (eq. 24-28): each deformable particle's deformation gradient, volume and
 // stress from its field's velocity gradient, through its material's pure update, and the
 // bodies' stress work summed in a thread-count independent order.
-#include "talus/interface.hpp"
-#include "talus/solver.hpp"
+#include "talus/setup/interface.hpp"
 #include "talus/solver/detail.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <algorithm>
 #include <atomic>

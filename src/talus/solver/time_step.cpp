@@ -1,5 +1,5 @@
 // The time step: CFL on the fastest P-wave plus particle speed, or the case's fixed step.
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 
 #include <cmath>
 #include <fmt/format.h>

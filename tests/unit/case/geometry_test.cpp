@@ -3,6 +3,7 @@
 // polygon edge and a disk are the outward unit normals of the nearest face.
 #include "talus/case/geometry.hpp"
 #include "talus/case/size.hpp"
+#include "talus/setup/seeds.hpp"
 #include "test_support.hpp"
 
 #include <cmath>

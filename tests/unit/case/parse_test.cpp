@@ -2,6 +2,7 @@
 // line and the key path, and a suggestion where a key is misspelt.
 #include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
+#include "talus/setup/seeds.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 #include "talus/case/size.hpp"
-#include "talus/particles.hpp"
+#include "talus/core/particles.hpp"
 
 #include <gtest/gtest.h>
 #include <string>

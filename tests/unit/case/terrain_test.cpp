@@ -5,6 +5,7 @@
 // the file and what is wrong.
 #include "talus/case/geometry.hpp"
 #include "talus/case/size.hpp"
+#include "talus/setup/seeds.hpp"
 #include "test_support.hpp"
 
 #include <cmath>

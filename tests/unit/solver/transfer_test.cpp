@@ -1,6 +1,6 @@
 // Transfers: P2G conserves mass and momentum to round-off; a PIC G2P returns the grid's momentum
 // to the particles; the coloured scatter gives bitwise the same state for 1 and 2 threads.
-#include "talus/solver.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <algorithm>

@@ -1,0 +1,62 @@
+#include "talus/setup/initial_state.hpp"
+
+#include "talus/physics/water.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <vector>
+
+namespace talus {
+
+template <int D>
+void apply_k0_stress(const Case& c, Particles<D>& P) {
+  double g = 0.0;
+  for (int d = 0; d < D; ++d)
+    g += c.simulation.gravity[d] * c.simulation.gravity[d];
+  g = std::sqrt(g);
+  const double h = c.grid.cell_size;
+  const double area = std::pow(h, D - 1);
+  // Group particles by column, then walk each column from the top down.
+  std::map<std::vector<std::int64_t>, std::vector<std::size_t>> columns;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    std::vector<std::int64_t> key(D - 1);
+    for (int d = 0; d < D - 1; ++d)
+      key[d] = static_cast<std::int64_t>(std::floor((P.x[p][d] - c.grid.origin[d]) / h));
+    columns[key].push_back(p);
+  }
+  for (auto& [key, ps] : columns) {
+    std::stable_sort(ps.begin(), ps.end(),
+                     [&](std::size_t a, std::size_t b) { return P.x[a][D - 1] > P.x[b][D - 1]; });
+    double above = 0.0;
+    for (const std::size_t p : ps) {
+      const int b = P.body_of(p);
+      // Below a water level the effective stress: the overburden's buoyant weight.
+      double m = P.m[p];
+      if (c.water.level && !c.bodies[b].rigid)
+        m *= 1.0 - c.water.density / c.materials[c.bodies[b].material].density() *
+                       submerged_fraction(*c.water.level, P.x[p][D - 1],
+                                          h / c.bodies[b].particles_per_cell);
+      const double sigma_v = -g * (above + 0.5 * m) / area;
+      above += m;
+      double k0 = c.initial_state.k0;
+      if (k0 < 0.0) {
+        const double nu = std::visit([](const auto& m) { return m.poisson_ratio; },
+                                     c.materials[c.bodies[b].material].model);
+        k0 = nu / (1.0 - nu);
+      }
+      if (c.bodies[b].rigid) continue;
+      Voigt s = Voigt::Zero();
+      for (int i = 0; i < 3; ++i)
+        s[i] = k0 * sigma_v;
+      s[D - 1] = sigma_v;
+      P.stress[p] = s;
+    }
+  }
+}
+
+template void apply_k0_stress<2>(const Case&, Particles<2>&);
+template void apply_k0_stress<3>(const Case&, Particles<3>&);
+
+} // namespace talus

@@ -1,0 +1,322 @@
+// Simulation<D>: the state of a run and its explicit time step (docs/architecture.md).
+// Each body has its own velocity field (multi-velocity-field contact, paper section 2.3). What
+// is fixed for the run is in setup_ (setup/setup.hpp); the phases of step() live in solver/, a file per
+// equation group (particle_order, field_boxes, p2g, grid_update, contact_pass, g2p,
+// stress_update, interface_history, orphans, time_step, particle_check).
+#pragma once
+
+#include "talus/case/case.hpp"
+#include "talus/core/grid.hpp"
+#include "talus/core/nodes.hpp"
+#include "talus/core/particles.hpp"
+#include "talus/core/pore_pool.hpp"
+#include "talus/core/shape.hpp"
+#include "talus/setup/seeding.hpp"
+#include "talus/setup/setup.hpp"
+#include "talus/solver/contact_record.hpp"
+#include "talus/solver/exchange.hpp"
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+// A run that went bad: names the step, time, body, particle, position and field.
+class SimulationError : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
+
+// Wall time spent in each phase of the step, for the benchmark.
+struct PhaseTimes {
+  double p2g = 0, grid = 0, contact = 0, g2p = 0, stress = 0, other = 0;
+};
+
+template <int D>
+class Simulation {
+public:
+  explicit Simulation(const Case& c);
+  // From seeded particles: the whole case's, or on several processes one process's own slab
+  // (which parallel/distributed.hpp then steps).
+  Simulation(const Case& c, Seeded<D> seeded);
+
+  // Advances one step of at most dt_limit (so output times and the end time are hit exactly).
+  // Throws SimulationError naming the step, time and first particle that went bad (a non-finite
+  // position, velocity or stress, a particle off the grid, det F <= 0).
+  void step(double dt_limit = inf);
+
+  double time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  double last_dt() const { return dt_; }
+  // The last step's stable step (CFL or fixed), before an output time shortened it.
+  double last_stable_dt() const { return stable_dt_; }
+  // The case as given: for the output writers (names, probes, output options), not the phases.
+  const Case& case_() const { return case_data_; }
+  const Setup<D>& setup() const { return setup_; }
+  const Grid<D>& grid() const { return grid_; }
+  const Particles<D>& particles() const { return particles_; }
+  const std::vector<BodyField<D>>& fields() const { return fields_; }
+  const PhaseTimes& phase_times() const { return phase_times_; }
+  int num_bodies() const { return particles_.num_bodies(); }
+
+  // Contact and interface totals of the last step, their time means since reset_force_means(),
+  // and the contact force at every node where contact corrected a body (solver/contact_record.hpp).
+  const Vec<D>& contact_force(int a, int b) const { return record_.force(a, b); }
+  const std::vector<InterfaceForce>& interface_forces() const { return record_.interface_force; }
+  Vec<D> mean_contact_force(int a, int b) const { return record_.mean_force(a, b); }
+  InterfaceForce mean_interface_force(std::size_t f) const {
+    return record_.mean_interface_force(f);
+  }
+  void reset_force_means() { record_.reset_means(); }
+  std::vector<ContactNodeForce<D>> contact_nodes() const {
+    return gathered_nodes_ ? *gathered_nodes_ : record_.nodes();
+  }
+  // Every process's contact nodes, gathered for output on several processes (nullopt: this
+  // process's own, as on one).
+  // Drops a restored state's contact nodes (on the processes of a run that are not rank 0,
+  // which alone keeps them for the first frame).
+  void drop_contact_nodes() { record_.restore_nodes({}); }
+  void set_gathered_contact_nodes(std::optional<std::vector<ContactNodeForce<D>>> nodes) {
+    gathered_nodes_ = std::move(nodes);
+  }
+
+  // The energy the step accumulates for body b's budget since release (or the start), J (per
+  // unit thickness in 2D): the work of the contact and interface forces (negative when they
+  // brake) and of the stresses (integral of sigma : D dV dt). The rest of the budget (gravity's
+  // work, the elastic energy) is read from the particles: solver/diagnostics.hpp.
+  double contact_work(int b) const { return record_.work[b]; }
+  double internal_work(int b) const { return internal_work_[b]; }
+  // Whether particle p counts in this process's sums: on one process every particle does.
+  bool is_own(std::size_t p) const { return !exchange_ || exchange_->is_own(p); }
+  // Particle p's index on one process (as errors name it, on any number of processes).
+  std::size_t one_process_index(std::size_t p) const {
+    return exchange_ ? exchange_->global_index(p) : p;
+  }
+  Exchange* exchange() const { return exchange_; }
+  // The elastic energy at release (or at the start, without settling).
+  double strain_energy_at_release(int b) const { return strain_energy0_[b]; }
+
+  // An interface particle's excess pore pressure (Pa): its interface's, plus its band's
+  // thermal-pressurization rise; 0 off an interface.
+  double interface_pore_pressure(std::size_t p) const;
+  // An interface particle's min(p / sigma_n, 1), sigma_n its normal stress of the last step (0
+  // where it has none): the share of its normal stress its pore pressure takes off friction.
+  double pore_ratio(std::size_t p) const {
+    const double sigma_n = pore_.at(particles_.pore[p]).normal_stress();
+    return sigma_n > 0.0 ? std::min(interface_pore_pressure(p) / sigma_n, 1.0) : 0.0;
+  }
+  // The band temperature of an interface particle with thermal pressurization (deg C), else NaN.
+  double band_temperature(std::size_t p) const;
+  // The pore pressure of particle p (Pa): the hydrostatic rho_w g (level - z) below a water
+  // level, plus an interface particle's excess.
+  double pore_pressure(std::size_t p) const;
+
+  // The pore pool (core/pore_pool.hpp): per interface particle with pore pressure
+  // (Particles::pore), the band-mean temperature and pore pressure rises (zero without a band),
+  // its compressive normal stress (the contact's normal force of the last step shared out by
+  // N_I A^p), then the profiles across its band if it has one.
+  const PorePool& pore_pool() const { return pore_; }
+  const std::vector<std::pair<std::size_t, int>>& pore_entries() const { return pore_.entries; }
+  const std::vector<double>& pore_state() const { return pore_.data; }
+  // Each process holds the whole pool; migration and ghosts bring the entries of its particles.
+  std::vector<double>& pore_state_mut() { return pore_.data; }
+
+  // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+  // Settling (initial_state.settle_time): damped, interfaces held. release() ends it: time
+  // restarts at 0 and displacements are measured from the current positions.
+  void set_settling(bool on) { settling_ = on; }
+  bool settling() const { return settling_; }
+  void release();
+  // The elastic energy the budget counts from (strain_energy_at_release): the particles' now,
+  // summed over every process's own particles (collective on several processes).
+  void set_energy_baseline();
+
+  // The stable time step of the current state (CFL) or the fixed one.
+  double compute_time_step() const;
+  // The whole case's particle count (on several processes too).
+  std::size_t case_particles() const { return index_of_id_.size(); }
+  // The whole case's particles of body b.
+  std::size_t body_particles(int b) const { return body_count_[b]; }
+  // The whole case's body ranges of one process's particle order (from the counts).
+  std::vector<std::size_t> case_body_begin() const {
+    std::vector<std::size_t> begin{0};
+    for (const std::size_t n : body_count_)
+      begin.push_back(begin.back() + n);
+    return begin;
+  }
+  // Current index of the particle with stable id `id`.
+  std::size_t index_of(std::uint32_t id) const { return index_of_id_[id]; }
+
+  // A checkpoint's reading and writing of the state (output/simulation_archive.hpp).
+  template <class Ar, int E>
+  friend void serialize_state(Ar& ar, Simulation<E>& sim, const std::string& source);
+
+  // Initial conditions that a case file cannot express (tests set a velocity field here).
+  Particles<D>& particles_mut() {
+    invalidate_shape();         // the caller may move particles
+    particles_checked_ = false; // and the next step checks them all
+    drop_held_fields();         // and fixed bodies
+    return particles_;
+  }
+
+  // On several processes (parallel/distributed.hpp): the exchange the step's collective points
+  // call, and this process's share of the particles (its own and its ghosts, in one process's
+  // order) swapped in and out around each step. `fields_stand`: the share holds the same
+  // particles of every held (fixed) body as before, so their held fields stand.
+  void set_exchange(Exchange* exchange) { exchange_ = exchange; }
+  void replace_particles(Particles<D>&& share, bool fields_stand) {
+    particles_ = std::move(share);
+    invalidate_shape();
+    if (!fields_stand) drop_held_fields();
+    for (std::size_t p = 0; p < particles_.size(); ++p)
+      index_of_id_[particles_.id[p]] = static_cast<std::uint32_t>(p);
+  }
+  // The share to refresh in place: the same particles in the same slots, with new values.
+  Particles<D>& share_in_place() {
+    invalidate_shape();
+    return particles_;
+  }
+  Particles<D> take_particles() {
+    invalidate_shape();
+    return std::move(particles_);
+  }
+  int sort_interval() const { return sort_interval_; }
+
+  // Whether body b's field is held from an earlier step instead of scattered (a fixed body).
+  bool fixed_field_cached(int b) const { return field_held_[b] != 0; }
+
+  // The phases of step() (docs/architecture.md), public so the tests can run each on its own.
+  // Each one's definition starts with what it reads and what it writes.
+  void sort_particles_by_cell();
+  void bin_particles_by_slab();
+  void fit_body_fields();
+  void map_particles_to_nodes(bool with_forces);
+  void map_forces_to_nodes();
+  void compute_node_velocities();
+  void integrate_node_forces(double dt);
+  void apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*velocity);
+  // Contact on one velocity array of every body field (v, v_new or v_remap); `record` keeps its
+  // forces, work, contact nodes and the interfaces' slip rates.
+  void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, bool record);
+  // Body b's geometric normal at node g, cached for a body whose geometry stays put.
+  Vec<D> geometric_normal(int b, const Index<D>& g);
+  // G2P of the velocity and position (eq. 22-23), from v and v_new.
+  void update_particles(double dt);
+  // MUSL's particle update and momentum re-map in one coloured pass, then the re-mapped velocity.
+  void update_particles_and_remap(double dt);
+  // F, volume and stress from the velocity gradient of `velocity` (eq. 24-28).
+  void update_stress(std::vector<Vec<D>> BodyField<D>::*velocity, double dt);
+  // The interface particles' slip, cohesion and friction (eq. 38-39).
+  void update_interface_history(double dt);
+  void check_particles() const;
+  // Re-decides which particles are orphans mapped to another body's field
+  // (contact.orphan_fraction).
+  void update_orphans();
+  // Particles mapped to another body's field (counted from Particles::field).
+  std::int64_t orphans() const;
+
+private:
+  void begin_step(double dt_limit);
+  void end_step();
+  double wave_speed(std::int64_t p, double modulus) const;
+  // Finite position, velocity and stress, inside [lo, hi]; and the error naming what is not.
+  bool particle_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const;
+  // Position and velocity finite, the particle inside [lo, hi] (checked in the passes that move).
+  bool motion_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const {
+    const auto& P = particles_;
+    return P.x[p].allFinite() && P.v[p].allFinite() && (P.x[p].array() >= lo.array()).all() &&
+           (P.x[p].array() <= hi.array()).all();
+  }
+  [[noreturn]] void report_bad_particle(std::size_t p) const;
+  [[noreturn]] void report_time_step_collapse(double stable, double floor) const;
+  // P2G with its options fixed at compile time (see map_particles_to_nodes).
+  template <bool with_forces, bool with_contact>
+  void scatter_particles();
+  bool reaches_other_body(int body, const ShapeWeights<D>& sw, int margin) const;
+  template <class Model>
+  void update_body_stress(int body, std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
+                          const Model& model);
+  // Calls f(p, body) for every particle, slab colour by slab colour, so that no two threads
+  // write one node and every node sums its particles in one fixed order (thread-count independent).
+  template <class F>
+  void scatter(F&& f);
+
+  // The shape-weight cache: each particle's weights at its position at the start of the step,
+  // evaluated by the step's first P2G and read by every later transfer of the step (also by
+  // the stress pass after the particles moved: it uses the start-of-step weights on purpose).
+  // Whatever moves or reorders particles outside a step calls invalidate_shape().
+  void invalidate_shape() { shape_step_ = -1; }
+  void assert_shape_current() const {
+    if (shape_step_ != steps_ || shape_.size() != particles_.size())
+      throw std::logic_error("a transfer ran before the P2G that evaluates its shape weights");
+  }
+  // A fixed body's field (mass, gradient, position, bond capacities; velocity zero) is the same
+  // every step: held after its first full scatter, until this drops it.
+  void drop_held_fields() { std::fill(field_held_.begin(), field_held_.end(), 0); }
+
+  Case case_data_; // for the writers (case_()); the phases read setup_
+  Grid<D> grid_;
+  Particles<D> particles_;
+  Setup<D> setup_;
+  std::vector<BodyField<D>> fields_; // one per body
+  std::vector<char> field_held_;     // per body: its field stands from an earlier step
+  // Per body with geometric_normal, per node row along x, per line of nodes along the last axis:
+  // its surface normal at the line's nodes [first, first + size) (NaN: not yet met), the range
+  // the contact pass has met (geometric_normal). Unused for rigid bodies that move.
+  struct NormalLine {
+    std::int64_t first = 0;
+    std::vector<Vec<D>> normals;
+  };
+  std::vector<std::vector<std::vector<NormalLine>>> normal_cache_;
+
+  // Slab binning for the coloured scatter: particles of slab s and body b are
+  // bin_index_[bin_offset_[s * B + b] .. bin_offset_[s * B + b + 1]) (none for a held field).
+  int slab_width_ = 4;
+  std::int64_t num_slabs_ = 1;
+  std::vector<std::uint32_t> bin_index_;
+  std::vector<std::size_t> bin_offset_;
+  std::vector<std::uint32_t> particle_bin_;
+  std::vector<double> box_bounds_;           // fit_body_fields' per-body particle bounds
+  std::vector<double> box_bounds_local_;     // the same, of this process's particles alone
+  static constexpr int orphan_interval = 10; // steps between update_orphans()
+
+  ContactRecord<D> record_;
+  std::vector<double> internal_work_, strain_energy0_; // per body, since release
+  static constexpr std::int64_t work_chunk = 1024;     // particles per chunk of the stress work sum
+  std::vector<double> chunk_work_;
+  std::vector<double> particle_work_, chunk_work_global_; // with an exchange
+  Exchange* exchange_ = nullptr; // the other processes (solver/exchange.hpp); null on one
+  std::optional<std::vector<ContactNodeForce<D>>> gathered_nodes_;
+  std::vector<ShapeWeights<D>> shape_;
+  std::int64_t shape_step_ = -1; // the step whose positions shape_ holds
+
+  double time_ = 0.0;
+  double dt_ = 0.0;
+  double dt_reference_ = 0.0; // the first stable step: the floor is a fraction of it
+  double stable_dt_ = 0.0;    // the last step's, before dt_limit (last_stable_dt)
+  std::int64_t steps_ = 0;
+  int sort_interval_ = 20;
+  // The particle check rides on the transfers: the pass that moves a particle checks its position
+  // and velocity, the stress pass its stress, and the least bad index is kept here; the step's
+  // end reports it (step, time and particle), before output or a checkpoint can read the state.
+  // A state the transfers did not make (the case's, a checkpoint's, a test's) is checked whole
+  // at the next step's start.
+  static constexpr std::size_t no_particle = std::numeric_limits<std::size_t>::max();
+  std::size_t bad_particle_ = no_particle;
+  std::string pending_failure_; // a failure found mid-step (det F <= 0), thrown at its end
+  bool particles_checked_ = false;
+  bool settling_ = false;
+  std::vector<std::uint32_t> index_of_id_;
+  std::vector<std::size_t> body_count_; // per body: the whole case's particles
+  PhaseTimes phase_times_;
+  std::vector<std::string> warnings_;
+  PorePool pore_; // interface pore pressure and thermal pressurization (pore_pool())
+};
+
+} // namespace talus

@@ -1,0 +1,2 @@
+// core may not use physics: this must not build.
+#include "talus/physics/band.hpp"

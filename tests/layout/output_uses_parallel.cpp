@@ -1,0 +1,2 @@
+// output may not use parallel: this must not build.
+#include "talus/parallel/processes.hpp"

@@ -1,0 +1,2 @@
+// parallel may not use run: this must not build.
+#include "talus/run/run.hpp"

@@ -1,0 +1,2 @@
+// physics may not use case: this must not build.
+#include "talus/case/case.hpp"

@@ -1,0 +1,159 @@
+// Shape functions: partition of unity, gradients summing to zero, and exact reproduction of a
+// linear field and its gradient, for linear and GIMP kernels in 2D and 3D.
+#include "talus/core/shape.hpp"
+
+#include <gtest/gtest.h>
+#include <random>
+
+namespace talus {
+namespace {
+
+template <class T>
+class ShapeTest : public ::testing::Test {};
+using Dims = ::testing::Types<std::integral_constant<int, 2>, std::integral_constant<int, 3>>;
+TYPED_TEST_SUITE(ShapeTest, Dims);
+
+template <int D>
+Grid<D> test_grid() {
+  Vec<D> origin = Vec<D>::Constant(-1.0), extent = Vec<D>::Constant(4.0);
+  return Grid<D>(origin, extent, 0.5);
+}
+
+TYPED_TEST(ShapeTest, PartitionOfUnityAndLinearReproduction) {
+  constexpr int D = TypeParam::value;
+  const Grid<D> grid = test_grid<D>();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.4, 2.4); // away from the grid's edge
+  const Vec<D> a = Vec<D>::LinSpaced(0.3, 1.7);        // linear field f(x) = c + a.x
+  const double c = 0.25;
+  for (ShapeKind kind : {ShapeKind::linear, ShapeKind::gimp}) {
+    for (double lp : {0.125, 0.25 / 3.0, 0.0625}) {
+      for (int trial = 0; trial < 200; ++trial) {
+        Vec<D> x;
+        for (int d = 0; d < D; ++d)
+          x[d] = u(rng);
+        const ShapeWeights<D> sw = evaluate_shape(grid, kind, lp, x);
+        double sum = 0.0, f = 0.0;
+        Vec<D> grad_sum = Vec<D>::Zero(), grad_f = Vec<D>::Zero();
+        Mat<D> x_grad = Mat<D>::Zero(); // sum x_I (grad N_I)^T = identity
+        for_each_node(grid, sw, [&](std::int64_t I, double N, const Vec<D>& g) {
+          const Vec<D> xI = grid.node_position(grid.node_coords(I));
+          sum += N;
+          grad_sum += g;
+          f += N * (c + a.dot(xI));
+          grad_f += (c + a.dot(xI)) * g;
+          x_grad += xI * g.transpose();
+        });
+        EXPECT_NEAR(sum, 1.0, 1e-13);
+        EXPECT_LT(grad_sum.norm(), 1e-12);
+        EXPECT_NEAR(f, c + a.dot(x), 1e-12);
+        EXPECT_LT((grad_f - a).norm(), 1e-11);
+        EXPECT_LT((x_grad - Mat<D>::Identity()).norm(), 1e-12);
+      }
+    }
+  }
+}
+
+TEST(Gimp1D, MatchesTheClosedFormPieces) {
+  const double h = 1.0, lp = 0.25;
+  double w, dw;
+  gimp_1d(0.0, h, lp, w, dw); // centred on the node: 1 - lp/(2h)
+  EXPECT_DOUBLE_EQ(w, 1.0 - lp / (2.0 * h));
+  EXPECT_DOUBLE_EQ(dw, 0.0);
+  gimp_1d(0.5, h, lp, w, dw); // linear region
+  EXPECT_DOUBLE_EQ(w, 0.5);
+  EXPECT_DOUBLE_EQ(dw, -1.0 / h);
+  gimp_1d(h + lp, h, lp, w, dw); // edge of the support
+  EXPECT_DOUBLE_EQ(w, 0.0);
+  gimp_1d(-1.0, h, lp, w, dw); // tail: (h + lp - |r|)^2 / (4 h lp)
+  EXPECT_DOUBLE_EQ(w, lp * lp / (4.0 * h * lp));
+  EXPECT_DOUBLE_EQ(dw, lp / (2.0 * h * lp));
+}
+
+TYPED_TEST(ShapeTest, NodesOutsideTheGridGetNoWeight) {
+  constexpr int D = TypeParam::value;
+  const Grid<D> grid = test_grid<D>();
+  const Vec<D> x = grid.origin + Vec<D>::Constant(0.05);
+  const ShapeWeights<D> sw = evaluate_shape(grid, ShapeKind::gimp, 0.125, x);
+  double sum = 0.0;
+  for_each_node(grid, sw, [&](std::int64_t I, double N, const Vec<D>&) {
+    EXPECT_GE(I, 0);
+    EXPECT_LT(I, grid.num_nodes());
+    sum += N;
+  });
+  EXPECT_LE(sum, 1.0 + 1e-14);
+}
+
+// GIMP's record keeps a third node in a direction only while the particle's domain straddles a
+// node line (its weight is exactly zero otherwise): the walk visits exactly the nodes with
+// weight, and its sums are bitwise those of the untrimmed 3 x 3 (x 3) walk, zeros included.
+TYPED_TEST(ShapeTest, GimpWalksExactlyTheNodesWithWeight) {
+  constexpr int D = TypeParam::value;
+  const Grid<D> grid = test_grid<D>();
+  const double lp = 0.125; // a quarter of the cell: 2 particles per cell
+  const GimpFactors f(grid.h, lp);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.4, 2.4);
+  int three = 0, total = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    Vec<D> x;
+    for (int d = 0; d < D; ++d)
+      x[d] = u(rng);
+    if (trial == 0) x.setConstant(0.125); // on the edge of the support: exactly 2 per direction
+    const ShapeWeights<D> sw = evaluate_shape(grid, ShapeKind::gimp, f, x);
+    // The untrimmed record: 3 nodes per direction from floor(xi - 1/2), as evaluate_shape
+    // rounds; the trimmed one must hold the same values at the nodes it keeps.
+    ShapeWeights<D> full;
+    int with_weight = 1;
+    for (int d = 0; d < D; ++d) {
+      const double xi = (x[d] - grid.origin[d]) * f.inv_h;
+      full.base[d] = static_cast<std::int64_t>(std::floor(xi - 0.5));
+      full.k[d] = 3;
+      int nonzero = 0;
+      for (int a = 0; a < 3; ++a) {
+        gimp_1d((xi - static_cast<double>(full.base[d] + a)) * grid.h, f, full.w[d][a],
+                full.dw[d][a]);
+        nonzero += full.w[d][a] != 0.0;
+        const std::int64_t kept = full.base[d] + a - sw.base[d];
+        if (kept >= 0 && kept < sw.k[d]) {
+          EXPECT_EQ(sw.w[d][kept], full.w[d][a]);
+          EXPECT_EQ(sw.dw[d][kept], full.dw[d][a]);
+        } else {
+          EXPECT_EQ(full.w[d][a], 0.0); // only a node with no weight is dropped
+          EXPECT_EQ(full.dw[d][a], 0.0);
+        }
+      }
+      with_weight *= nonzero;
+      EXPECT_EQ(sw.k[d], nonzero);
+      three += sw.k[d] == 3, ++total;
+    }
+    auto sums = [&](const ShapeWeights<D>& r, int* visited, auto walk) {
+      double sum = 0.0;
+      Vec<D> grad = Vec<D>::Zero();
+      walk(r, [&](std::int64_t I, double N, const Vec<D>& g) {
+        if (visited) ++*visited;
+        sum += N * static_cast<double>(I);
+        grad += g * static_cast<double>(I);
+      });
+      return std::pair{sum, grad};
+    };
+    int visited = 0;
+    const auto trimmed = sums(
+        sw, &visited, [&](const ShapeWeights<D>& r, auto&& fn) { for_each_node(grid, r, fn); });
+    const auto untrimmed = sums(full, nullptr, [&](const ShapeWeights<D>& r, auto&& fn) {
+      shape_detail::for_each_node_k<3, 3, 3>(grid, r, fn);
+    });
+    EXPECT_EQ(visited, with_weight) << "trial " << trial;
+    EXPECT_EQ(trimmed.first, untrimmed.first) << "trial " << trial;
+    EXPECT_TRUE(trimmed.second == untrimmed.second) << "trial " << trial;
+    if (trial == 0) {
+      for (int d = 0; d < D; ++d)
+        EXPECT_EQ(sw.k[d], 2);
+    }
+  }
+  // A domain of half-width h/4 straddles a node line for half of the positions.
+  EXPECT_NEAR(static_cast<double>(three) / total, 0.5, 0.06);
+}
+
+} // namespace
+} // namespace talus
