@@ -88,15 +88,15 @@ TEST(SlidingBlock, EnergyBudgetMatchesFrictionWork) {
     std::printf("energy, %s: gravity %.1f J (m g.u %.1f, %.1f of it across the plane), contact "
                 "%.1f J (-mu m g cos x - across: %.1f), stress work %.2f J, kinetic %.1f J "
                 "(0.5 m v^2 of the closed form %.1f)\n",
-                plane, gravity_work(sim, 0), gravity, across, sim.contact_work(0),
+                plane, gravity_work(sim, 0), gravity, across, sim.contact_record().work[0],
                 friction - across, sim.internal_work(0), ke,
                 0.5 * m * std::pow(g * (std::sin(theta) - mu * std::cos(theta)) * t, 2));
     EXPECT_NEAR(gravity_work(sim, 0), gravity, 1e-9 * gravity);
     EXPECT_LT(std::abs(across), 0.005 * gravity);
-    EXPECT_NEAR(sim.contact_work(0), friction - across, 0.005 * std::abs(friction));
+    EXPECT_NEAR(sim.contact_record().work[0], friction - across, 0.005 * std::abs(friction));
     EXPECT_LT(std::abs(sim.internal_work(0)), 2e-3 * gravity);
     const double unbalanced =
-        gravity_work(sim, 0) + sim.contact_work(0) - sim.internal_work(0) - ke;
+        gravity_work(sim, 0) + sim.contact_record().work[0] - sim.internal_work(0) - ke;
     EXPECT_LT(std::abs(unbalanced), 0.01 * gravity);
   }
 }
@@ -169,12 +169,12 @@ TEST(SlidingBlock, ContactNodeForcesAddUpToThePairTotal) {
   std::printf("contact nodes: %zu, total force (%.2f, %.2f) N against the pair's (%.2f, %.2f); "
               "normal %.1f N, mean over 0.1-0.5 s %.1f N (m g cos %.1f), frictional %.1f N (mu N "
               "%.1f)\n",
-              nodes.size(), total[0], total[1], sim.contact_force(0, 1)[0],
-              sim.contact_force(0, 1)[1], normal, normal_impulse / duration,
+              nodes.size(), total[0], total[1], sim.contact_record().force(0, 1)[0],
+              sim.contact_record().force(0, 1)[1], normal, normal_impulse / duration,
               m * g * std::cos(theta), frictional, mu * normal);
   EXPECT_GT(nodes.size(), 5u);
-  EXPECT_NEAR(total[0], sim.contact_force(0, 1)[0], 1e-9 * normal);
-  EXPECT_NEAR(total[1], sim.contact_force(0, 1)[1], 1e-9 * normal);
+  EXPECT_NEAR(total[0], sim.contact_record().force(0, 1)[0], 1e-9 * normal);
+  EXPECT_NEAR(total[1], sim.contact_record().force(0, 1)[1], 1e-9 * normal);
   EXPECT_NEAR(normal_impulse / duration, m * g * std::cos(theta), 0.01 * m * g);
   EXPECT_NEAR(frictional, mu * normal, 1e-6 * normal);
 }

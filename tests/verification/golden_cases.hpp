@@ -49,20 +49,21 @@ std::uint64_t state_hash(const Simulation<D>& sim) {
   if (!banded)
     for (const auto o : P.pore)
       if (o != -1) throw std::logic_error("a band offset in a case without bands");
-  if (banded) H.add(sim.pore_state());
+  if (banded) H.add(sim.pore_pool().data);
   H.add(sim.time()), H.add(sim.last_dt()), H.add(static_cast<double>(sim.steps()));
   const int B = sim.num_bodies();
   for (int a = 0; a < B; ++a)
     for (int b = 0; b < B; ++b)
       for (int d = 0; d < D; ++d)
-        H.add(sim.contact_force(a, b)[d]), H.add(sim.mean_contact_force(a, b)[d]);
-  for (std::size_t f = 0; f < sim.interface_forces().size(); ++f) {
-    const InterfaceForce I = sim.interface_forces()[f], M = sim.mean_interface_force(f);
+        H.add(sim.contact_record().force(a, b)[d]), H.add(sim.contact_record().mean_force(a, b)[d]);
+  for (std::size_t f = 0; f < sim.contact_record().interface_force.size(); ++f) {
+    const InterfaceForce I = sim.contact_record().interface_force[f],
+                         M = sim.contact_record().mean_interface_force(f);
     H.add(I.cohesive), H.add(I.frictional), H.add(I.normal);
     H.add(M.cohesive), H.add(M.frictional), H.add(M.normal);
   }
   for (int b = 0; b < B; ++b) {
-    H.add(gravity_work(sim, b)), H.add(sim.contact_work(b)), H.add(sim.internal_work(b));
+    H.add(gravity_work(sim, b)), H.add(sim.contact_record().work[b]), H.add(sim.internal_work(b));
     H.add(strain_energy(sim, b)), H.add(sim.strain_energy_at_release(b));
   }
   for (const ContactNodeForce<D>& n : sim.contact_nodes()) {

@@ -49,7 +49,7 @@ BlockRun run_block(const std::vector<std::string>& overrides, const std::vector<
   for (double t : times) {
     while (sim.time() < t - 1e-12) {
       sim.step(t - sim.time());
-      const InterfaceForce& F = sim.interface_forces()[0];
+      const InterfaceForce& F = sim.contact_record().interface_force[0];
       r.mean_cohesive += F.cohesive * sim.last_dt();
       r.mean_frictional += F.frictional * sim.last_dt();
       r.mean_normal += F.normal * sim.last_dt();

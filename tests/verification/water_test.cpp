@@ -192,10 +192,10 @@ BandRun slide_with_band(double lambda, double h, const std::vector<double>& time
     int n = 0;
     for (std::size_t q = P.body_begin[0]; q < P.body_begin[1]; ++q)
       if (P.pore[q] >= 0) {
-        heat += rho_c * h * (sim.band_temperature(q) - 20.0) * P.iface_area[q];
+        heat += rho_c * h * (band_temperature(sim, q) - 20.0) * P.iface_area[q];
         pr += sim.interface_pore_pressure(q), ++n;
       }
-    r.heat.push_back(heat), r.work.push_back(-sim.contact_work(0)), r.p.push_back(pr / n);
+    r.heat.push_back(heat), r.work.push_back(-sim.contact_record().work[0]), r.p.push_back(pr / n);
   }
   return r;
 }
@@ -306,7 +306,8 @@ TEST(ThermalPressurization, DrivenBlockWeakensAsTheClosedForm) {
       while (sim.time() < t - 1e-12) {
         sim.step(t - sim.time());
         if (sim.time() > t - 0.05 - 1e-12)
-          sum += sim.interface_forces()[0].frictional * sim.last_dt(), span += sim.last_dt();
+          sum += sim.contact_record().interface_force[0].frictional * sim.last_dt(),
+              span += sim.last_dt();
       }
       // d: the interface's slip (its particles' mean; the band's history variable), taken at
       // the middle of the window. It is 98.1 % of the driven displacement V t here.

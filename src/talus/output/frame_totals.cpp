@@ -74,7 +74,7 @@ FrameTotals<D> frame_totals(const Simulation<D>& sim, const std::vector<std::uin
     water[3 * f + 1] += pp * A;
     largest[B + 2 * f] = std::max(largest[B + 2 * f], pp);
     if (sim.setup().bands[f]) {
-      const double T = sim.band_temperature(p);
+      const double T = band_temperature(sim, p);
       water[3 * f + 2] += T * A;
       largest[B + 2 * f + 1] = std::max(largest[B + 2 * f + 1], T);
     }

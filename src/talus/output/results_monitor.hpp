@@ -18,7 +18,8 @@ namespace talus::results {
 template <int D>
 nlohmann::json energy_budget(const Simulation<D>& sim, const FrameTotals<D>& totals, int b) {
   const BodyTotals<D>& T = totals.bodies[b];
-  const double ke = T.kinetic_energy, gravity = T.gravity_work, contact = sim.contact_work(b);
+  const double ke = T.kinetic_energy, gravity = T.gravity_work,
+               contact = sim.contact_record().work[b];
   const double internal = sim.internal_work(b);
   const double elastic = T.strain_energy - sim.strain_energy_at_release(b);
   return {{"gravity_work_J", gravity},

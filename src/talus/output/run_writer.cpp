@@ -3,6 +3,7 @@
 #include "talus/output/files.hpp"
 #include "talus/output/frame_totals.hpp"
 #include "talus/output/vtu.hpp"
+#include "talus/solver/diagnostics.hpp"
 #include "talus/version.hpp"
 
 #include <filesystem>
@@ -138,17 +139,18 @@ void RunWriter<D>::write_rows(const Simulation<D>& sim, const FrameTotals<D>& to
                     "{:.10g},{}\n",
                     t, csv_text(c.bodies[b].name), T.mass, join<D>(T.centroid), join<D>(T.velocity),
                     T.mean_speed, T.max_speed, T.kinetic_energy, T.gravity_work,
-                    sim.contact_work(b), sim.internal_work(b), T.strain_energy, T.orphans);
+                    sim.contact_record().work[b], sim.internal_work(b), T.strain_energy, T.orphans);
   }
   energy_ += fmt::format("{:.10g},{},{:.10g},{:.10g}{}\n", t, sim.steps(), sim.last_dt(),
                          totals.kinetic_energy, join<D>(totals.momentum));
   for (int a = 0; a < B; ++a)
     for (int b = 0; b < B; ++b)
-      if (a != b && !sim.mean_contact_force(a, b).isZero())
-        contacts_ += fmt::format("{:.10g},{},{}{}\n", t, csv_text(c.bodies[a].name),
-                                 csv_text(c.bodies[b].name), join<D>(sim.mean_contact_force(a, b)));
+      if (a != b && !sim.contact_record().mean_force(a, b).isZero())
+        contacts_ +=
+            fmt::format("{:.10g},{},{}{}\n", t, csv_text(c.bodies[a].name),
+                        csv_text(c.bodies[b].name), join<D>(sim.contact_record().mean_force(a, b)));
   for (std::size_t f = 0; f < c.interfaces.size(); ++f) {
-    const InterfaceForce F = sim.mean_interface_force(f);
+    const InterfaceForce F = sim.contact_record().mean_interface_force(f);
     interfaces_ += fmt::format(
         "{:.10g},{},{:.10g},{:.10g},{:.10g}", t,
         csv_text(c.bodies[c.interfaces[f].a].name + "-" + c.bodies[c.interfaces[f].b].name),
@@ -186,9 +188,9 @@ void RunWriter<D>::write_particles(const std::string& path, const Simulation<D>&
   // With water: each particle's pore pressure; with bands: their temperature (NaN elsewhere).
   std::vector<ScalarField> extra;
   if (sim.setup().water.on || sim.setup().pore_pressure)
-    extra.emplace_back("pore_pressure", [&](std::size_t p) { return sim.pore_pressure(p); });
+    extra.emplace_back("pore_pressure", [&](std::size_t p) { return pore_pressure(sim, p); });
   if (sim.setup().heating)
-    extra.emplace_back("band_temperature", [&](std::size_t p) { return sim.band_temperature(p); });
+    extra.emplace_back("band_temperature", [&](std::size_t p) { return band_temperature(sim, p); });
   write_particles_vtu<D>(
       path, sim.particles(), mats,
       VtuFields{c.output.fields, c.output.float64_fields, c.output.float32_positions}, extra,

@@ -40,11 +40,11 @@ void Distributed<D>::init() {
   record_bytes_ = sizeof(std::uint32_t);
   own_.for_each_array([&](auto& a) { record_bytes_ += sizeof(element_t<decltype(a)>); });
   // The pore pool's entries, in offset order: each runs to the next one.
-  const auto& entries = sim_.pore_entries();
-  pool_size_.assign(sim_.pore_state().size(), 0);
+  const auto& entries = sim_.pore_pool().entries;
+  pool_size_.assign(sim_.pore_pool().data.size(), 0);
   for (std::size_t k = 0; k < entries.size(); ++k)
     pool_size_[entries[k].first] = static_cast<std::uint32_t>(
-        (k + 1 < entries.size() ? entries[k + 1].first : sim_.pore_state().size()) -
+        (k + 1 < entries.size() ? entries[k + 1].first : sim_.pore_pool().data.size()) -
         entries[k].first);
 }
 
@@ -56,7 +56,7 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t reba
   // The whole state, the same on every process, is checked here: a bad particle in it stops
   // every process alike, before any share's first step could stop one alone.
   sim_.check_particles();
-  Particles<D> all = sim_.take_particles();
+  Particles<D> all = store_.take_particles();
   body_begin_ = all.body_begin;
   std::vector<std::int64_t> counts(static_cast<std::size_t>(sim_.grid().cells[0]), 0);
   for (std::size_t p = 0; p < all.size(); ++p)
@@ -76,8 +76,8 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t reba
   own_index_ = mine;
   own_.body_begin = body_begin_of(own_index_);
   // A restored state's contact nodes: rank 0's to gather, once.
-  if (rank_ != 0) sim_.drop_contact_nodes();
-  sim_.set_exchange(this);
+  if (rank_ != 0) store_.drop_contact_nodes();
+  store_.set_exchange(this);
   fields_stand_ = false;
   build_share();
 }
@@ -95,12 +95,12 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::vector<std::
   // particles until build_share); every process stops with the first failure.
   share_index_ = own_index_;
   share_own_.assign(own_index_.size(), 1);
-  sim_.set_exchange(this);
+  store_.set_exchange(this);
   check_particles();
-  own_ = sim_.take_particles();
+  own_ = store_.take_particles();
   own_.body_begin = body_begin_of(own_index_);
   // A restored state's contact nodes: rank 0's to gather, once.
-  if (restored_rows && rank_ != 0) sim_.drop_contact_nodes();
+  if (restored_rows && rank_ != 0) store_.drop_contact_nodes();
   fields_stand_ = false;
   build_share();
   if (!restored_rows) sim_.set_energy_baseline();
@@ -137,7 +137,7 @@ void Distributed<D>::pack(Particles<D>& P, std::size_t p, std::uint32_t g, std::
   put(&g, sizeof g);
   P.for_each_array([&](auto& a) { put(&a[p], sizeof(element_t<decltype(a)>)); });
   if (const std::int64_t o = P.pore[p]; o >= 0)
-    put(sim_.pore_state().data() + o, pool_size_[o] * sizeof(double));
+    put(sim_.pore_pool().data.data() + o, pool_size_[o] * sizeof(double));
 }
 
 template <int D>
@@ -153,7 +153,7 @@ std::size_t Distributed<D>::unpack(const std::vector<char>& buf, std::size_t pos
     pos += sizeof(element_t<decltype(a)>);
   });
   if (const std::int64_t o = P.pore.back(); o >= 0) {
-    std::memcpy(sim_.pore_state_mut().data() + o, buf.data() + pos, pool_size_[o] * sizeof(double));
+    std::memcpy(store_.pore_state().data() + o, buf.data() + pos, pool_size_[o] * sizeof(double));
     pos += pool_size_[o] * sizeof(double);
   }
   return pos;
@@ -170,7 +170,7 @@ std::size_t Distributed<D>::unpack_in_place(const std::vector<char>& buf, std::s
     pos += sizeof(element_t<decltype(a)>);
   });
   if (const std::int64_t o = P.pore[g]; o >= 0) {
-    std::memcpy(sim_.pore_state_mut().data() + o, buf.data() + pos, pool_size_[o] * sizeof(double));
+    std::memcpy(store_.pore_state().data() + o, buf.data() + pos, pool_size_[o] * sizeof(double));
     pos += pool_size_[o] * sizeof(double);
   }
   return pos;
@@ -260,7 +260,7 @@ void Distributed<D>::merge_share(Particles<D>& own, const std::vector<std::uint3
   });
   share.body_begin = body_begin_of(share_index_);
   set_ownership(share);
-  sim_.replace_particles(std::move(share), fields_stand_);
+  store_.replace_particles(std::move(share), fields_stand_);
   fields_stand_ = true;
 }
 
@@ -322,7 +322,7 @@ void Distributed<D>::send_ghosts(Particles<D>& P, const std::vector<std::uint32_
 // there as a ghost already, so migration is the change of its owner.
 template <int D>
 void Distributed<D>::refresh_share() {
-  Particles<D>& S = sim_.share_in_place();
+  Particles<D>& S = store_.share_in_place();
   const std::int64_t reach_lo = bounds_[rank_] - ghost_width_;
   const std::int64_t reach_hi = bounds_[rank_ + 1] + ghost_width_;
   std::vector<std::uint32_t>& rows = rows_;   // own slots, still within reach
@@ -354,7 +354,7 @@ void Distributed<D>::refresh_share() {
     same = ghost_index_[g_order[j]] == share_index_[ghost_slots[j]];
   if (!same) {
     ++rebuilds_;
-    Particles<D> last = sim_.take_particles();
+    Particles<D> last = store_.take_particles();
     spare_.body_begin = body_begin_;
     merge_share(last, rows, index);
     spare_ = std::move(last);
@@ -369,7 +369,7 @@ void Distributed<D>::refresh_share() {
 
 template <int D>
 void Distributed<D>::collect_own() {
-  spare_ = sim_.take_particles(); // kept for the next share's arrays
+  spare_ = store_.take_particles(); // kept for the next share's arrays
   Particles<D>& share = spare_;
   std::vector<std::uint32_t> keep;
   for (std::size_t k = 0; k < share_own_.size(); ++k)
@@ -482,7 +482,7 @@ void Distributed<D>::step(double dt_limit) {
     const std::int64_t step = sim_.steps();
     const bool rebalance_due =
         rebalance_interval_ > 0 && step > 0 && step % rebalance_interval_ == 0;
-    const bool sort_due = step % sim_.sort_interval() == 0;
+    const bool sort_due = step % store_.sort_interval() == 0;
     if (rebalance_due || sort_due) {
       collect_own();
       if (rebalance_due) rebalance();

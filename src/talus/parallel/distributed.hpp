@@ -15,6 +15,7 @@
 #include "talus/output/particle_order.hpp"
 #include "talus/parallel/decomposition.hpp"
 #include "talus/solver/exchange.hpp"
+#include "talus/solver/particle_store.hpp"
 #include "talus/solver/simulation.hpp"
 
 #include <cstdint>
@@ -43,7 +44,7 @@ public:
               std::optional<std::vector<std::uint32_t>> restored_rows = std::nullopt);
   Distributed(const Distributed&) = delete;
   Distributed& operator=(const Distributed&) = delete;
-  ~Distributed() override { sim_.set_exchange(nullptr); }
+  ~Distributed() override { store_.set_exchange(nullptr); }
 
   // One step on every process (collective). A step that fails on any process throws its
   // SimulationError, named with the process, on every process; any other error stops them all.
@@ -71,7 +72,7 @@ public:
   void with_whole_tables(F&& f) {
     gather_tables();
     f();
-    if (rank_ == 0) sim_.set_gathered_contact_nodes(std::nullopt);
+    if (rank_ == 0) store_.set_gathered_contact_nodes(std::nullopt);
   }
   // Simulation::check_particles on every process: the first process's failure, everywhere.
   void check_particles();
@@ -145,6 +146,7 @@ private:
   void agree_on_failure(std::string failure); // throws the first process's failure everywhere
 
   Simulation<D>& sim_;
+  ParticleStore<D> store_{sim_}; // the share's door into sim_ (solver/particle_store.hpp)
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
   std::int64_t rebalance_interval_;

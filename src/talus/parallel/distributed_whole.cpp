@@ -125,25 +125,25 @@ void Distributed<D>::gather_tables() {
     const std::size_t at = mine.size(), n = pool_size_[o] * sizeof(double);
     mine.resize(at + sizeof o + n);
     std::memcpy(mine.data() + at, &o, sizeof o);
-    std::memcpy(mine.data() + at + sizeof o, sim_.pore_state().data() + o, n);
+    std::memcpy(mine.data() + at + sizeof o, sim_.pore_pool().data.data() + o, n);
   }
   gather_in_pieces(comm_, mine, [&](const std::vector<char>& entries) {
     for (std::size_t at = 0; at < entries.size();) {
       std::int64_t o = 0;
       std::memcpy(&o, entries.data() + at, sizeof o);
       const std::size_t n = pool_size_[o] * sizeof(double);
-      std::memcpy(sim_.pore_state_mut().data() + o, entries.data() + at + sizeof o, n);
+      std::memcpy(store_.pore_state().data() + o, entries.data() + at + sizeof o, n);
       at += sizeof o + n;
     }
   });
-  if (rank_ == 0) sim_.set_gathered_contact_nodes(std::move(nodes));
+  if (rank_ == 0) store_.set_gathered_contact_nodes(std::move(nodes));
 }
 
 template <int D>
 void Distributed<D>::gather_to_root() {
   std::vector<ContactNodeForce<D>> nodes = gather_contact_nodes();
   std::vector<char> buf;
-  Particles<D> share = sim_.take_particles();
+  Particles<D> share = store_.take_particles();
   for (std::size_t k = 0; k < share_own_.size(); ++k)
     if (share_own_[k]) pack(share, k, share_index_[k], buf);
   // Rank 0 writes each process's records into their slots of the whole state as they arrive.
@@ -154,21 +154,21 @@ void Distributed<D>::gather_to_root() {
       pos = unpack_in_place(records, pos, staged);
   });
   if (rank_ != 0) {
-    sim_.replace_particles(std::move(share), true);
+    store_.replace_particles(std::move(share), true);
     return;
   }
   staged.body_begin = body_begin_;
   parked_share_ = std::move(share);
-  sim_.replace_particles(std::move(staged), true);
-  sim_.set_gathered_contact_nodes(std::move(nodes));
+  store_.replace_particles(std::move(staged), true);
+  store_.set_gathered_contact_nodes(std::move(nodes));
 }
 
 template <int D>
 void Distributed<D>::restore_share() {
   if (rank_ != 0) return;
-  sim_.take_particles(); // the whole state goes
-  sim_.replace_particles(std::move(parked_share_), true);
-  sim_.set_gathered_contact_nodes(std::nullopt);
+  store_.take_particles(); // the whole state goes
+  store_.replace_particles(std::move(parked_share_), true);
+  store_.set_gathered_contact_nodes(std::nullopt);
 }
 
 template class Distributed<2>;

@@ -1,6 +1,6 @@
 // Stepper<D>: a run's state and step on one process or on several (MPI), behind one interface.
-// The run loop (run/run.cpp) and the benchmark speak to it alone; make_stepper is the one place that
-// knows whether the program was built with MPI and how many processes run it.
+// The run loop (run/run.cpp) and the benchmark speak to it alone; make_stepper is the one place
+// that knows whether the program was built with MPI and how many processes run it.
 #pragma once
 
 #include "talus/output/checkpoint.hpp"

@@ -143,12 +143,12 @@ Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g) {
   if (moves)
     return surface_normal<D>(*body.normal_geometry,
                              Vec<D>(grid_.node_position(g) - body.rigid_velocity * time_));
-  std::vector<NormalLine>& row = normal_cache_[b][g[0]];
+  std::vector<NormalLine<D>>& row = normal_cache_[b][g[0]];
   std::int64_t line = 0; // the line's index in the row: nodes[1] x ... x nodes[D - 2]
   for (int d = 1; d < D - 1; ++d)
     line = line * grid_.nodes[d] + g[d];
   if (row.empty()) row.resize(grid_.num_nodes() / (grid_.nodes[0] * grid_.nodes[D - 1]));
-  NormalLine& L = row[line];
+  NormalLine<D>& L = row[line];
   const std::int64_t z = g[D - 1];
   const Vec<D> unset = Vec<D>::Constant(std::numeric_limits<double>::quiet_NaN());
   if (L.normals.empty()) {

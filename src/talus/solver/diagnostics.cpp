@@ -3,6 +3,8 @@
 #include "talus/core/math.hpp"
 #include "talus/physics/water.hpp"
 
+#include <algorithm>
+#include <limits>
 #include <variant>
 
 namespace talus {
@@ -86,11 +88,31 @@ std::vector<std::uint32_t> probe_ids(const Simulation<D>& sim) {
   return ids;
 }
 
+// The hydrostatic rho_w g (level - z) below the water level, plus the interface's excess.
+template <int D>
+double pore_pressure(const Simulation<D>& sim, std::size_t p) {
+  const WaterSetup<D>& W = sim.setup().water;
+  const double hydrostatic =
+      W.on ? W.density * W.g * std::max(W.level - W.up.dot(sim.particles().x[p]), 0.0) : 0.0;
+  return hydrostatic + sim.interface_pore_pressure(p);
+}
+
+template <int D>
+double band_temperature(const Simulation<D>& sim, std::size_t p) {
+  const auto& P = sim.particles();
+  const Setup<D>& S = sim.setup();
+  if (P.pore[p] < 0 || !S.bands[P.iface[p]]) return std::numeric_limits<double>::quiet_NaN();
+  return S.interfaces[P.iface[p]].thermal_pressurization->temperature +
+         sim.pore_pool().at(P.pore[p]).temperature_rise();
+}
+
 #define TALUS_INSTANTIATE(D)                                                                       \
   template void add_energy_terms(const Simulation<D>&, int, bool, ExactSum&, ExactSum&);           \
   template double gravity_work(const Simulation<D>&, int);                                         \
   template double strain_energy(const Simulation<D>&, int);                                        \
-  template std::vector<std::uint32_t> probe_ids(const Simulation<D>&);
+  template std::vector<std::uint32_t> probe_ids(const Simulation<D>&);                             \
+  template double pore_pressure(const Simulation<D>&, std::size_t);                                \
+  template double band_temperature(const Simulation<D>&, std::size_t);
 TALUS_INSTANTIATE(2)
 TALUS_INSTANTIATE(3)
 

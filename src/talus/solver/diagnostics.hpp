@@ -1,5 +1,6 @@
 // What the output reads from a Simulation besides its state: the energy budget's terms summed
-// from the particles, and the probes' particles. Pure functions of the state, not part of the step.
+// from the particles, a particle's pore pressure and band temperature, and the probes' particles.
+// Pure functions of the state, not part of the step.
 #pragma once
 
 #include "talus/core/exact_sum.hpp"
@@ -27,6 +28,14 @@ template <int D>
 double gravity_work(const Simulation<D>& sim, int b);
 template <int D>
 double strain_energy(const Simulation<D>& sim, int b);
+
+// The pore pressure of particle p (Pa): the hydrostatic rho_w g (level - z) below a water level,
+// plus an interface particle's excess (Simulation::interface_pore_pressure).
+template <int D>
+double pore_pressure(const Simulation<D>& sim, std::size_t p);
+// The band temperature of an interface particle with thermal pressurization (deg C), else NaN.
+template <int D>
+double band_temperature(const Simulation<D>& sim, std::size_t p);
 
 // Stable ids of the case's probes: the particle of the probe's body nearest its point now (of
 // equals, the least id). Collective on several processes.

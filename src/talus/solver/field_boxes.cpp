@@ -20,7 +20,7 @@ template <int D>
 void Simulation<D>::fit_body_fields() {
   const auto& P = particles_;
   const int B = P.num_bodies();
-  std::vector<double>& bounds = box_bounds_; // B x D minima, then B x D maxima
+  std::vector<double>& bounds = plan_.box_bounds; // B x D minima, then B x D maxima
   bounds.resize(2 * B * D);
   double* lo_ = bounds.data();
   double* hi_ = bounds.data() + B * D;
@@ -58,7 +58,7 @@ void Simulation<D>::fit_body_fields() {
   // On several processes each frame spans every process's particles: the frames, and with them
   // the shape weights (relative to the frame) and the contact rows, are one process's. Each
   // process stores the part of the frame its own and ghost particles reach.
-  std::vector<double>& mine = box_bounds_local_;
+  std::vector<double>& mine = plan_.box_bounds_local;
   mine.assign(bounds.begin(), bounds.end());
   if (exchange_) exchange_->min_max(lo_, hi_, B * D);
   for (int b = 0; b < B; ++b) {

@@ -21,39 +21,39 @@ void Simulation<D>::sort_particles_by_cell() {
     index_of_id_[P.id[p]] = static_cast<std::uint32_t>(p);
 }
 
-// Reads the positions; writes each particle's slab bin (slabs of slab_width_ cells along x, by
+// Reads the positions; writes each particle's slab bin (slabs of plan_.slab_width cells along x, by
 // body) and the bins' index, in particle order; a held field's particles get no bin.
 template <int D>
 void Simulation<D>::bin_particles_by_slab() {
   const auto& P = particles_;
   const int B = P.num_bodies();
   const std::size_t n = P.size();
-  particle_bin_.resize(n);
-  bin_index_.resize(n);
-  std::fill(bin_offset_.begin(), bin_offset_.end(), 0);
+  plan_.particle_bin.resize(n);
+  plan_.bin_index.resize(n);
+  std::fill(plan_.bin_offset.begin(), plan_.bin_offset.end(), 0);
   const double inv_h = 1.0 / grid_.h;
   constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
   for (int b = 0; b < B; ++b) {
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
     if (field_held_[b]) { // its field stands: no scatter visits its particles
-      std::fill(particle_bin_.begin() + begin, particle_bin_.begin() + end, none);
+      std::fill(plan_.particle_bin.begin() + begin, plan_.particle_bin.begin() + end, none);
       continue;
     }
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
       const double xi = (P.x[p][0] - grid_.origin[0]) * inv_h;
-      const std::int64_t s =
-          std::clamp<std::int64_t>(static_cast<std::int64_t>(xi) / slab_width_, 0, num_slabs_ - 1);
-      particle_bin_[p] = static_cast<std::uint32_t>(s * B + b);
+      const std::int64_t s = std::clamp<std::int64_t>(
+          static_cast<std::int64_t>(xi) / plan_.slab_width, 0, plan_.num_slabs - 1);
+      plan_.particle_bin[p] = static_cast<std::uint32_t>(s * B + b);
     }
   }
   for (std::size_t p = 0; p < n; ++p)
-    if (particle_bin_[p] != none) ++bin_offset_[particle_bin_[p] + 1];
-  std::partial_sum(bin_offset_.begin(), bin_offset_.end(), bin_offset_.begin());
-  std::vector<std::size_t> fill(bin_offset_.begin(), bin_offset_.end() - 1);
+    if (plan_.particle_bin[p] != none) ++plan_.bin_offset[plan_.particle_bin[p] + 1];
+  std::partial_sum(plan_.bin_offset.begin(), plan_.bin_offset.end(), plan_.bin_offset.begin());
+  std::vector<std::size_t> fill(plan_.bin_offset.begin(), plan_.bin_offset.end() - 1);
   for (std::size_t p = 0; p < n; ++p)
-    if (particle_bin_[p] != none)
-      bin_index_[fill[particle_bin_[p]]++] = static_cast<std::uint32_t>(p);
+    if (plan_.particle_bin[p] != none)
+      plan_.bin_index[fill[plan_.particle_bin[p]]++] = static_cast<std::uint32_t>(p);
 }
 
 #define TALUS_INSTANTIATE(D)                                                                       \

@@ -12,10 +12,10 @@ void Simulation<D>::scatter(F&& f) {
   const int B = particles_.num_bodies();
   for (int colour = 0; colour < 2; ++colour) {
 #pragma omp parallel for schedule(dynamic, 1)
-    for (std::int64_t s = colour; s < num_slabs_; s += 2)
+    for (std::int64_t s = colour; s < plan_.num_slabs; s += 2)
       for (int b = 0; b < B; ++b)
-        for (std::size_t k = bin_offset_[s * B + b]; k < bin_offset_[s * B + b + 1]; ++k)
-          f(bin_index_[k], b);
+        for (std::size_t k = plan_.bin_offset[s * B + b]; k < plan_.bin_offset[s * B + b + 1]; ++k)
+          f(plan_.bin_index[k], b);
   }
 }
 

@@ -56,9 +56,9 @@ Simulation<D>::Simulation(const Case& c, Seeded<D> seeded) : case_data_(c) {
   internal_work_.assign(B, 0.0);
   // Slab width: GIMP writes nodes [cell-1, cell+2], so slabs of 4 cells keep two slabs of one
   // colour at least one slab apart.
-  slab_width_ = 4;
-  num_slabs_ = (grid_.cells[0] + slab_width_ - 1) / slab_width_;
-  bin_offset_.assign(static_cast<std::size_t>(num_slabs_ * B + 1), 0);
+  plan_.slab_width = 4;
+  plan_.num_slabs = (grid_.cells[0] + plan_.slab_width - 1) / plan_.slab_width;
+  plan_.bin_offset.assign(static_cast<std::size_t>(plan_.num_slabs * B + 1), 0);
   // The energy budget counts from the start (the initial stresses' elastic energy is its
   // baseline) until release() restarts it.
   set_energy_baseline();
@@ -169,19 +169,11 @@ double Simulation<D>::interface_pore_pressure(std::size_t p) const {
 }
 
 template <int D>
-double Simulation<D>::pore_pressure(std::size_t p) const {
-  const WaterSetup<D>& W = setup_.water;
-  const double hydrostatic =
-      W.on ? W.density * W.g * std::max(W.level - W.up.dot(particles_.x[p]), 0.0) : 0.0;
-  return hydrostatic + interface_pore_pressure(p);
-}
-
-template <int D>
-double Simulation<D>::band_temperature(std::size_t p) const {
-  const auto& P = particles_;
-  if (P.pore[p] < 0 || !setup_.bands[P.iface[p]]) return std::numeric_limits<double>::quiet_NaN();
-  return setup_.interfaces[P.iface[p]].thermal_pressurization->temperature +
-         pore_.at(P.pore[p]).temperature_rise();
+std::vector<std::size_t> Simulation<D>::case_body_begin() const {
+  std::vector<std::size_t> begin{0};
+  for (const std::size_t n : body_count_)
+    begin.push_back(begin.back() + n);
+  return begin;
 }
 
 template class Simulation<2>;

@@ -1,7 +1,7 @@
 // Simulation<D>: the state of a run and its explicit time step (docs/architecture.md).
 // Each body has its own velocity field (multi-velocity-field contact, paper section 2.3). What
-// is fixed for the run is in setup_ (setup/setup.hpp); the phases of step() live in solver/, a file per
-// equation group (particle_order, field_boxes, p2g, grid_update, contact_pass, g2p,
+// is fixed for the run is in setup_ (setup/setup.hpp); the phases of step() live in solver/, a file
+// per equation group (particle_order, field_boxes, p2g, grid_update, contact_pass, g2p,
 // stress_update, interface_history, orphans, time_step, particle_check).
 #pragma once
 
@@ -15,6 +15,7 @@
 #include "talus/setup/setup.hpp"
 #include "talus/solver/contact_record.hpp"
 #include "talus/solver/exchange.hpp"
+#include "talus/solver/step_scratch.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -35,6 +36,9 @@ public:
 struct PhaseTimes {
   double p2g = 0, grid = 0, contact = 0, g2p = 0, stress = 0, other = 0;
 };
+
+template <int D>
+class ParticleStore;
 
 template <int D>
 class Simulation {
@@ -63,32 +67,17 @@ public:
   const PhaseTimes& phase_times() const { return phase_times_; }
   int num_bodies() const { return particles_.num_bodies(); }
 
-  // Contact and interface totals of the last step, their time means since reset_force_means(),
-  // and the contact force at every node where contact corrected a body (solver/contact_record.hpp).
-  const Vec<D>& contact_force(int a, int b) const { return record_.force(a, b); }
-  const std::vector<InterfaceForce>& interface_forces() const { return record_.interface_force; }
-  Vec<D> mean_contact_force(int a, int b) const { return record_.mean_force(a, b); }
-  InterfaceForce mean_interface_force(std::size_t f) const {
-    return record_.mean_interface_force(f);
-  }
+  // The contact pass's record (solver/contact_record.hpp): per pair and interface the totals of
+  // the last step and their time means since reset_force_means(), and per body the work of the
+  // contact and interface forces since release (negative when they brake).
+  const ContactRecord<D>& contact_record() const { return record_; }
   void reset_force_means() { record_.reset_means(); }
+  // The contact force at every node where contact corrected a body (every process's on rank 0).
   std::vector<ContactNodeForce<D>> contact_nodes() const {
     return gathered_nodes_ ? *gathered_nodes_ : record_.nodes();
   }
-  // Every process's contact nodes, gathered for output on several processes (nullopt: this
-  // process's own, as on one).
-  // Drops a restored state's contact nodes (on the processes of a run that are not rank 0,
-  // which alone keeps them for the first frame).
-  void drop_contact_nodes() { record_.restore_nodes({}); }
-  void set_gathered_contact_nodes(std::optional<std::vector<ContactNodeForce<D>>> nodes) {
-    gathered_nodes_ = std::move(nodes);
-  }
-
-  // The energy the step accumulates for body b's budget since release (or the start), J (per
-  // unit thickness in 2D): the work of the contact and interface forces (negative when they
-  // brake) and of the stresses (integral of sigma : D dV dt). The rest of the budget (gravity's
-  // work, the elastic energy) is read from the particles: solver/diagnostics.hpp.
-  double contact_work(int b) const { return record_.work[b]; }
+  // The stresses' work on body b since release, integral of sigma : D dV dt (J; per unit
+  // thickness in 2D). The rest of the budget is read from the particles: solver/diagnostics.hpp.
   double internal_work(int b) const { return internal_work_[b]; }
   // Whether particle p counts in this process's sums: on one process every particle does.
   bool is_own(std::size_t p) const { return !exchange_ || exchange_->is_own(p); }
@@ -109,21 +98,12 @@ public:
     const double sigma_n = pore_.at(particles_.pore[p]).normal_stress();
     return sigma_n > 0.0 ? std::min(interface_pore_pressure(p) / sigma_n, 1.0) : 0.0;
   }
-  // The band temperature of an interface particle with thermal pressurization (deg C), else NaN.
-  double band_temperature(std::size_t p) const;
-  // The pore pressure of particle p (Pa): the hydrostatic rho_w g (level - z) below a water
-  // level, plus an interface particle's excess.
-  double pore_pressure(std::size_t p) const;
 
   // The pore pool (core/pore_pool.hpp): per interface particle with pore pressure
   // (Particles::pore), the band-mean temperature and pore pressure rises (zero without a band),
   // its compressive normal stress (the contact's normal force of the last step shared out by
   // N_I A^p), then the profiles across its band if it has one.
   const PorePool& pore_pool() const { return pore_; }
-  const std::vector<std::pair<std::size_t, int>>& pore_entries() const { return pore_.entries; }
-  const std::vector<double>& pore_state() const { return pore_.data; }
-  // Each process holds the whole pool; migration and ghosts bring the entries of its particles.
-  std::vector<double>& pore_state_mut() { return pore_.data; }
 
   // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
   const std::vector<std::string>& warnings() const { return warnings_; }
@@ -144,18 +124,15 @@ public:
   // The whole case's particles of body b.
   std::size_t body_particles(int b) const { return body_count_[b]; }
   // The whole case's body ranges of one process's particle order (from the counts).
-  std::vector<std::size_t> case_body_begin() const {
-    std::vector<std::size_t> begin{0};
-    for (const std::size_t n : body_count_)
-      begin.push_back(begin.back() + n);
-    return begin;
-  }
+  std::vector<std::size_t> case_body_begin() const;
   // Current index of the particle with stable id `id`.
   std::size_t index_of(std::uint32_t id) const { return index_of_id_[id]; }
 
-  // A checkpoint's reading and writing of the state (output/simulation_archive.hpp).
+  // A checkpoint's reading and writing of the state (output/simulation_archive.hpp), and the
+  // share's door on several processes (solver/particle_store.hpp).
   template <class Ar, int E>
   friend void serialize_state(Ar& ar, Simulation<E>& sim, const std::string& source);
+  friend class ParticleStore<D>;
 
   // Initial conditions that a case file cannot express (tests set a velocity field here).
   Particles<D>& particles_mut() {
@@ -164,29 +141,6 @@ public:
     drop_held_fields();         // and fixed bodies
     return particles_;
   }
-
-  // On several processes (parallel/distributed.hpp): the exchange the step's collective points
-  // call, and this process's share of the particles (its own and its ghosts, in one process's
-  // order) swapped in and out around each step. `fields_stand`: the share holds the same
-  // particles of every held (fixed) body as before, so their held fields stand.
-  void set_exchange(Exchange* exchange) { exchange_ = exchange; }
-  void replace_particles(Particles<D>&& share, bool fields_stand) {
-    particles_ = std::move(share);
-    invalidate_shape();
-    if (!fields_stand) drop_held_fields();
-    for (std::size_t p = 0; p < particles_.size(); ++p)
-      index_of_id_[particles_.id[p]] = static_cast<std::uint32_t>(p);
-  }
-  // The share to refresh in place: the same particles in the same slots, with new values.
-  Particles<D>& share_in_place() {
-    invalidate_shape();
-    return particles_;
-  }
-  Particles<D> take_particles() {
-    invalidate_shape();
-    return std::move(particles_);
-  }
-  int sort_interval() const { return sort_interval_; }
 
   // Whether body b's field is held from an earlier step instead of scattered (a fixed body).
   bool fixed_field_cached(int b) const { return field_held_[b] != 0; }
@@ -266,31 +220,13 @@ private:
   Setup<D> setup_;
   std::vector<BodyField<D>> fields_; // one per body
   std::vector<char> field_held_;     // per body: its field stands from an earlier step
-  // Per body with geometric_normal, per node row along x, per line of nodes along the last axis:
-  // its surface normal at the line's nodes [first, first + size) (NaN: not yet met), the range
-  // the contact pass has met (geometric_normal). Unused for rigid bodies that move.
-  struct NormalLine {
-    std::int64_t first = 0;
-    std::vector<Vec<D>> normals;
-  };
-  std::vector<std::vector<std::vector<NormalLine>>> normal_cache_;
-
-  // Slab binning for the coloured scatter: particles of slab s and body b are
-  // bin_index_[bin_offset_[s * B + b] .. bin_offset_[s * B + b + 1]) (none for a held field).
-  int slab_width_ = 4;
-  std::int64_t num_slabs_ = 1;
-  std::vector<std::uint32_t> bin_index_;
-  std::vector<std::size_t> bin_offset_;
-  std::vector<std::uint32_t> particle_bin_;
-  std::vector<double> box_bounds_;           // fit_body_fields' per-body particle bounds
-  std::vector<double> box_bounds_local_;     // the same, of this process's particles alone
+  NormalCache<D> normal_cache_;
+  ScatterPlan plan_;
   static constexpr int orphan_interval = 10; // steps between update_orphans()
 
   ContactRecord<D> record_;
   std::vector<double> internal_work_, strain_energy0_; // per body, since release
-  static constexpr std::int64_t work_chunk = 1024;     // particles per chunk of the stress work sum
-  std::vector<double> chunk_work_;
-  std::vector<double> particle_work_, chunk_work_global_; // with an exchange
+  StressWorkSums work_sums_;
   Exchange* exchange_ = nullptr; // the other processes (solver/exchange.hpp); null on one
   std::optional<std::vector<ContactNodeForce<D>>> gathered_nodes_;
   std::vector<ShapeWeights<D>> shape_;

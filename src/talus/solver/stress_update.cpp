@@ -37,17 +37,19 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
   std::atomic<std::size_t> bad{P.size()}, gone{no_particle};
   // Particles go in fixed chunks so that the stress work sums in an order that does not depend
   // on the thread count (chunk sums, then the chunks in order).
-  const std::int64_t chunks = (end - begin + work_chunk - 1) / work_chunk;
-  if (static_cast<std::int64_t>(chunk_work_.size()) < chunks) chunk_work_.resize(chunks);
+  const std::int64_t chunks = (end - begin + work_sums_.chunk - 1) / work_sums_.chunk;
+  if (static_cast<std::int64_t>(work_sums_.chunk_work.size()) < chunks)
+    work_sums_.chunk_work.resize(chunks);
   // On several processes the chunks are of global indices: each particle's work goes to the
   // exchange, which forms the chunk sums one process would.
   double* particle_work = nullptr;
-  if (exchange_) particle_work_.resize(P.size()), particle_work = particle_work_.data();
+  if (exchange_)
+    work_sums_.particle_work.resize(P.size()), particle_work = work_sums_.particle_work.data();
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::int64_t c = 0; c < chunks; ++c) {
     double work = 0.0;
-    for (std::int64_t p = begin + c * work_chunk; p < std::min(end, begin + (c + 1) * work_chunk);
-         ++p) {
+    for (std::int64_t p = begin + c * work_sums_.chunk;
+         p < std::min(end, begin + (c + 1) * work_sums_.chunk); ++p) {
       const ShapeWeights<D>& sw = shape_[p];
       const BodyField<D>& N = fields_[P.field[p]];
       const Vec<D>* rate = (N.*velocity).data();
@@ -80,15 +82,16 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
       if (!P.stress[p].allFinite())
         detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
     }
-    chunk_work_[c] = work;
+    work_sums_.chunk_work[c] = work;
   }
   if (exchange_) {
-    exchange_->chunk_sums(b, begin, end, particle_work, work_chunk, chunk_work_global_);
-    for (const double w : chunk_work_global_)
+    exchange_->chunk_sums(b, begin, end, particle_work, work_sums_.chunk,
+                          work_sums_.chunk_work_global);
+    for (const double w : work_sums_.chunk_work_global)
       internal_work_[b] += w;
   } else {
     for (std::int64_t c = 0; c < chunks; ++c)
-      internal_work_[b] += chunk_work_[c];
+      internal_work_[b] += work_sums_.chunk_work[c];
   }
   bad_particle_ = std::min(bad_particle_, gone.load());
   // Reported at the step's end, so that every process reaches the step's collective points.

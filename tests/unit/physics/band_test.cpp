@@ -1,5 +1,5 @@
-// The shear band of thermal pressurization (physics/band.hpp) against Rice (2006)'s closed forms, slip
-// at a constant rate V with tau = mu (sigma_n - p):
+// The shear band of thermal pressurization (physics/band.hpp) against Rice (2006)'s closed forms,
+// slip at a constant rate V with tau = mu (sigma_n - p):
 // - undrained and adiabatic: tau = mu sigma_n exp(-d / L), L = rho c h / (mu Lambda);
 // - slip on a plane with diffusion: tau = mu sigma_n exp(d / L*) erfc(sqrt(d / L*)),
 //   L* = (4 / mu^2) (rho c / Lambda)^2 (sqrt(alpha_hy) + sqrt(alpha_th))^2 / V;
