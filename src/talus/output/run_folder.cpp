@@ -112,6 +112,18 @@ std::vector<std::string> foreign_entries(const std::string& dir) {
 }
 
 RunFolder::RunFolder(std::string dir, Use use) : dir_(std::move(dir)) {
+  // A refusal after the marker was taken must let it go: a constructor that throws runs no
+  // destructor, and the lock would hold the folder for the rest of the process.
+  try {
+    take(use);
+  } catch (...) {
+    if (marker_fd_ >= 0) ::close(marker_fd_);
+    marker_fd_ = -1;
+    throw;
+  }
+}
+
+void RunFolder::take(Use use) {
   std::error_code ec;
   const fs::file_status st = fs::symlink_status(dir_, ec);
   if (use == Use::restart && !fs::is_directory(fs::status(dir_, ec)))
@@ -125,7 +137,13 @@ RunFolder::RunFolder(std::string dir, Use use) : dir_(std::move(dir)) {
   }
   const std::string marker = dir_ + "/" + run_folder_marker;
   const bool marked = fs::exists(fs::symlink_status(marker, ec));
-  if (use == Use::restart) { // a folder of an older talus has no marker yet: it gets one
+  if (use == Use::restart) {
+    // A folder of an older talus has no marker yet: it gets one, if it holds the checkpoints a
+    // restart needs; any other folder is not Talus's to mark.
+    if (!marked && !fs::is_directory(fs::symlink_status(dir_ + "/checkpoints", ec)))
+      refuse(fmt::format("{}: the folder has no {} marker and no checkpoints/, so it is not a "
+                         "talus run folder: there is nothing to restart",
+                         dir_, run_folder_marker));
     take_marker(!marked);
     return;
   }

@@ -39,6 +39,7 @@ public:
   void check_still_here() const;
 
 private:
+  void take(Use use);            // the constructor's checks, refusals and emptying
   void take_marker(bool create); // opens (or creates) the marker and locks it
   std::string dir_;
   int marker_fd_ = -1;

@@ -54,9 +54,9 @@ TEST(TableReader, ErrorsNameFileLineAndKey) {
   EXPECT_EQ(error_of(text, [](TableReader& r) { r.number("x"); }),
             "case.toml:6: material.x: expected a number, got a string");
   // An integer beyond int is refused before narrowing (2^32 + 2 is not 2).
-  EXPECT_EQ(error_of("[material]\nn = 4294967298\n",
-                     [](TableReader& r) { r.integer("n", 1, 1, 8); }),
-            "case.toml:2: material.n: must be in [1, 8], got 4294967298");
+  EXPECT_EQ(
+      error_of("[material]\nn = 4294967298\n", [](TableReader& r) { r.integer("n", 1, 1, 8); }),
+      "case.toml:2: material.n: must be in [1, 8], got 4294967298");
 }
 
 // A key nobody asked for is reported with the nearest valid key; a missing key points at a
