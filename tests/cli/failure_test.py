@@ -88,7 +88,7 @@ folder_intact(out, "unstable")
 # No frame written (one per step here) holds a non-finite value. This blow-up is caught by the
 # det F check inside the step that inverts a particle, so it does not tell the end-of-step report
 # of non-finite or off-grid particles from the old next-step check; BadState.StopsWithTheStep-
-# ThatMadeIt (tests/unit/solver/transfer_test.cpp) does, with one step().
+# ThatMadeIt (tests/unit/solver/particle_check_test.cpp) does, with one step().
 import numpy as np
 for vtu in sorted(out.glob("particles_*.vtu")):
     mesh = meshio.read(vtu)

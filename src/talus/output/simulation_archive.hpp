@@ -25,7 +25,7 @@ void serialize_state(Ar& ar, Simulation<D>& sim, const std::string& source) {
     io_expect(ar, whole, "bodies and particle counts", source);
     ar.particles(sim.particles_, whole);
     sim.invalidate_shape();
-    sim.particles_checked_ = false;
+    sim.check_.checked = false;
     // The map from id to index, from the ids (each once, within the case's).
     std::fill(sim.index_of_id_.begin(), sim.index_of_id_.end(), std::uint32_t(-1));
     for (std::size_t p = 0; p < sim.particles_.size(); ++p) {

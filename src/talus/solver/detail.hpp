@@ -1,6 +1,7 @@
 // Helpers shared by the files of the solver's phases (not part of the library's interface).
 #pragma once
 
+#include "talus/core/particles.hpp"
 #include "talus/physics/contact.hpp"
 #include "talus/solver/exchange.hpp"
 
@@ -41,6 +42,14 @@ inline void record_bad(std::atomic<std::size_t>& first, std::size_t p,
   std::size_t cur = first.load();
   while (p < cur && !first.compare_exchange_weak(cur, p)) {
   }
+}
+
+// Particle p's position and velocity finite and the particle inside [lo, hi]: what the passes
+// that move a particle check.
+template <int D>
+bool motion_ok(const Particles<D>& P, std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) {
+  return P.x[p].allFinite() && P.v[p].allFinite() && (P.x[p].array() >= lo.array()).all() &&
+         (P.x[p].array() <= hi.array()).all();
 }
 
 // The body at a contact node that body k's pair is with: the heaviest other body there (its

@@ -48,20 +48,21 @@ template <int D>
 void Simulation<D>::update_particles(double dt) {
   auto& P = particles_;
   const double flip = setup_.flip;
-  std::atomic<std::size_t> gone{no_particle};
+  std::atomic<std::size_t> gone{StepCheck::no_particle};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
   for (int b = 0; b < num_bodies(); ++b) {
     if (field_held_[b]) continue;
-    assert_shape_current();
+    shape_.require(steps_, particles_.size());
     const BodySetup<D>& body = setup_.bodies[b];
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
       move_particle(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
-      if (!motion_ok(p, lo, hi)) detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
+      if (!detail::motion_ok(P, p, lo, hi))
+        detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
     }
   }
-  bad_particle_ = std::min(bad_particle_, gone.load());
+  check_.bad_particle = std::min(check_.bad_particle, gone.load());
 }
 
 // MUSL's middle (eq. 22-23, then the re-map). Reads v and v_new of each particle's field;
@@ -72,21 +73,21 @@ template <int D>
 void Simulation<D>::update_particles_and_remap(double dt) {
   auto& P = particles_;
   const double flip = setup_.flip;
-  assert_shape_current();
+  shape_.require(steps_, particles_.size());
   for (auto& N : fields_)
     std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
-  std::atomic<std::size_t> gone{no_particle};
+  std::atomic<std::size_t> gone{StepCheck::no_particle};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
   scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[P.field[p]];
-    const ShapeWeights<D>& sw = shape_[p];
+    const ShapeWeights<D>& sw = shape_.weights[p];
     move_particle(P, p, setup_.bodies[b], N, sw, flip, dt);
-    if (!motion_ok(p, lo, hi)) detail::record_bad(gone, p, exchange_);
+    if (!detail::motion_ok(P, p, lo, hi)) detail::record_bad(gone, p, exchange_);
     const Vec<D> mv_p = P.m[p] * P.v[p];
     for_each_node(N.box, sw,
                   [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
   });
-  bad_particle_ = std::min(bad_particle_, gone.load());
+  check_.bad_particle = std::min(check_.bad_particle, gone.load());
   for (int b = 0; b < num_bodies(); ++b) {
     BodyField<D>& N = fields_[b];
     const std::int64_t n = static_cast<std::int64_t>(N.size());

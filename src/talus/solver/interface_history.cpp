@@ -21,7 +21,7 @@ void Simulation<D>::update_interface_history(double dt) {
   auto& P = particles_;
   for (int b = 0; b < num_bodies(); ++b) {
     if (setup_.bodies[b].rigid || fields_[b].slots == 0) continue;
-    assert_shape_current();
+    shape_.require(steps_, particles_.size());
     const BodyField<D>& N = fields_[b];
     const int S = N.slots;
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];

@@ -51,12 +51,12 @@ template <bool with_forces, bool with_contact>
 void Simulation<D>::scatter_particles() {
   auto& P = particles_;
   const ShapeKind kind = setup_.shape;
-  shape_.resize(P.size());
-  shape_step_ = steps_;
+  shape_.weights.resize(P.size());
+  shape_.step = steps_;
   scatter([&](std::uint32_t p, int b) {
     const int f = P.field[p]; // b, or the host of an orphan
     BodyField<D>& N = fields_[f];
-    ShapeWeights<D>& sw = shape_[p];
+    ShapeWeights<D>& sw = shape_.weights[p];
     N.weights(sw, kind, setup_.bodies[b].gimp, P.x[p]);
     const double m_p = P.m[p];
     const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
@@ -112,10 +112,10 @@ void Simulation<D>::scatter_particles() {
 template <int D>
 void Simulation<D>::map_forces_to_nodes() {
   auto& P = particles_;
-  assert_shape_current();
+  shape_.require(steps_, particles_.size());
   scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[P.field[p]];
-    const ShapeWeights<D>& sw = shape_[p];
+    const ShapeWeights<D>& sw = shape_.weights[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
     const Vec<D> mg = setup_.weight(P.m[p], b, P.x[p]);
     for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {

@@ -10,7 +10,7 @@ namespace talus {
 
 template <int D>
 bool Simulation<D>::particle_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const {
-  return motion_ok(p, lo, hi) && particles_.stress[p].allFinite();
+  return detail::motion_ok(particles_, p, lo, hi) && particles_.stress[p].allFinite();
 }
 
 // Reads every particle's position, velocity and stress; throws naming the first bad one.

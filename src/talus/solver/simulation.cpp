@@ -116,9 +116,10 @@ void Simulation<D>::step(double dt_limit) {
 // bins and the fields' boxes (cleared).
 template <int D>
 void Simulation<D>::begin_step(double dt_limit) {
-  bad_particle_ = no_particle; // a phase run on its own before (tests) leaves nothing behind
-  pending_failure_.clear();
-  if (!particles_checked_) check_particles(), particles_checked_ = true;
+  check_.bad_particle =
+      StepCheck::no_particle; // a phase run on its own before (tests) leaves nothing behind
+  check_.pending_failure.clear();
+  if (!check_.checked) check_particles(), check_.checked = true;
   const double stable = compute_time_step();
   const TimeStepSetup& ts = setup_.time_step;
   if (dt_reference_ == 0.0 && std::isfinite(stable)) {
@@ -139,14 +140,15 @@ void Simulation<D>::begin_step(double dt_limit) {
 // step's first bad particle before anything (output, a checkpoint, the next step) reads it.
 template <int D>
 void Simulation<D>::end_step() {
-  if (!pending_failure_.empty()) throw SimulationError(std::exchange(pending_failure_, {}));
+  if (!check_.pending_failure.empty())
+    throw SimulationError(std::exchange(check_.pending_failure, {}));
   invalidate_shape(); // the particles have moved
   record_.accumulate(dt_);
   time_ += dt_;
   ++steps_;
   for (int b = 0; b < num_bodies(); ++b)
     field_held_[b] = setup_.bodies[b].fixed;
-  if (bad_particle_ != no_particle) report_bad_particle(bad_particle_);
+  if (check_.bad_particle != StepCheck::no_particle) report_bad_particle(check_.bad_particle);
 }
 
 template <int D>

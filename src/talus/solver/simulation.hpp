@@ -18,7 +18,6 @@
 #include "talus/solver/step_scratch.hpp"
 
 #include <cstdint>
-#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -136,9 +135,9 @@ public:
 
   // Initial conditions that a case file cannot express (tests set a velocity field here).
   Particles<D>& particles_mut() {
-    invalidate_shape();         // the caller may move particles
-    particles_checked_ = false; // and the next step checks them all
-    drop_held_fields();         // and fixed bodies
+    invalidate_shape();     // the caller may move particles
+    check_.checked = false; // and the next step checks them all
+    drop_held_fields();     // and fixed bodies
     return particles_;
   }
 
@@ -181,12 +180,6 @@ private:
   double wave_speed(std::int64_t p, double modulus) const;
   // Finite position, velocity and stress, inside [lo, hi]; and the error naming what is not.
   bool particle_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const;
-  // Position and velocity finite, the particle inside [lo, hi] (checked in the passes that move).
-  bool motion_ok(std::int64_t p, const Vec<D>& lo, const Vec<D>& hi) const {
-    const auto& P = particles_;
-    return P.x[p].allFinite() && P.v[p].allFinite() && (P.x[p].array() >= lo.array()).all() &&
-           (P.x[p].array() <= hi.array()).all();
-  }
   [[noreturn]] void report_bad_particle(std::size_t p) const;
   [[noreturn]] void report_time_step_collapse(double stable, double floor) const;
   // P2G with its options fixed at compile time (see map_particles_to_nodes).
@@ -201,15 +194,7 @@ private:
   template <class F>
   void scatter(F&& f);
 
-  // The shape-weight cache: each particle's weights at its position at the start of the step,
-  // evaluated by the step's first P2G and read by every later transfer of the step (also by
-  // the stress pass after the particles moved: it uses the start-of-step weights on purpose).
-  // Whatever moves or reorders particles outside a step calls invalidate_shape().
-  void invalidate_shape() { shape_step_ = -1; }
-  void assert_shape_current() const {
-    if (shape_step_ != steps_ || shape_.size() != particles_.size())
-      throw std::logic_error("a transfer ran before the P2G that evaluates its shape weights");
-  }
+  void invalidate_shape() { shape_.invalidate(); }
   // A fixed body's field (mass, gradient, position, bond capacities; velocity zero) is the same
   // every step: held after its first full scatter, until this drops it.
   void drop_held_fields() { std::fill(field_held_.begin(), field_held_.end(), 0); }
@@ -229,8 +214,7 @@ private:
   StressWorkSums work_sums_;
   Exchange* exchange_ = nullptr; // the other processes (solver/exchange.hpp); null on one
   std::optional<std::vector<ContactNodeForce<D>>> gathered_nodes_;
-  std::vector<ShapeWeights<D>> shape_;
-  std::int64_t shape_step_ = -1; // the step whose positions shape_ holds
+  ShapeCache<D> shape_; // each particle's weights of this step (solver/step_scratch.hpp)
 
   double time_ = 0.0;
   double dt_ = 0.0;
@@ -238,15 +222,7 @@ private:
   double stable_dt_ = 0.0;    // the last step's, before dt_limit (last_stable_dt)
   std::int64_t steps_ = 0;
   int sort_interval_ = 20;
-  // The particle check rides on the transfers: the pass that moves a particle checks its position
-  // and velocity, the stress pass its stress, and the least bad index is kept here; the step's
-  // end reports it (step, time and particle), before output or a checkpoint can read the state.
-  // A state the transfers did not make (the case's, a checkpoint's, a test's) is checked whole
-  // at the next step's start.
-  static constexpr std::size_t no_particle = std::numeric_limits<std::size_t>::max();
-  std::size_t bad_particle_ = no_particle;
-  std::string pending_failure_; // a failure found mid-step (det F <= 0), thrown at its end
-  bool particles_checked_ = false;
+  StepCheck check_; // the particle check riding on the transfers (solver/step_scratch.hpp)
   bool settling_ = false;
   std::vector<std::uint32_t> index_of_id_;
   std::vector<std::size_t> body_count_; // per body: the whole case's particles

@@ -31,10 +31,10 @@ template <class Model>
 void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::*velocity,
                                        double dt, const Model& model) {
   auto& P = particles_;
-  assert_shape_current();
+  shape_.require(steps_, particles_.size());
   const double max_J = setup_.bodies[b].material.max_volume_ratio;
   const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-  std::atomic<std::size_t> bad{P.size()}, gone{no_particle};
+  std::atomic<std::size_t> bad{P.size()}, gone{StepCheck::no_particle};
   // Particles go in fixed chunks so that the stress work sums in an order that does not depend
   // on the thread count (chunk sums, then the chunks in order).
   const std::int64_t chunks = (end - begin + work_sums_.chunk - 1) / work_sums_.chunk;
@@ -50,7 +50,7 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
     double work = 0.0;
     for (std::int64_t p = begin + c * work_sums_.chunk;
          p < std::min(end, begin + (c + 1) * work_sums_.chunk); ++p) {
-      const ShapeWeights<D>& sw = shape_[p];
+      const ShapeWeights<D>& sw = shape_.weights[p];
       const BodyField<D>& N = fields_[P.field[p]];
       const Vec<D>* rate = (N.*velocity).data();
       // L = sum_I v_I (grad N_I)^T
@@ -93,10 +93,10 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
     for (std::int64_t c = 0; c < chunks; ++c)
       internal_work_[b] += work_sums_.chunk_work[c];
   }
-  bad_particle_ = std::min(bad_particle_, gone.load());
+  check_.bad_particle = std::min(check_.bad_particle, gone.load());
   // Reported at the step's end, so that every process reaches the step's collective points.
-  if (const std::size_t p = bad.load(); p != P.size() && pending_failure_.empty())
-    pending_failure_ = fmt::format(
+  if (const std::size_t p = bad.load(); p != P.size() && check_.pending_failure.empty())
+    check_.pending_failure = fmt::format(
         "step {}, time {:.6g} s: body '{}', particle {} (id {}) at ({}): det F = {:.3g} <= 0 "
         "(the particle turned inside out; reduce the time step or check the case)",
         steps_, time_, setup_.bodies[b].name, one_process_index(p), P.id[p],

@@ -1,0 +1,41 @@
+// G2P (solver/g2p.cpp): a PIC gather returns the grid's momentum to the particles.
+#include "block_case.hpp"
+#include "talus/solver/simulation.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+namespace talus {
+namespace {
+
+using test::block_case;
+using test::randomise;
+
+template <class T>
+class G2P : public ::testing::Test {};
+TYPED_TEST_SUITE(G2P, test::Dims);
+
+TYPED_TEST(G2P, PicGatherReturnsTheGridMomentum) {
+  constexpr int D = TypeParam::value;
+  Simulation<D> sim(test::case_from(block_case<D>("gimp", "usl", 0.0)));
+  randomise(sim.particles_mut(), 5);
+  sim.bin_particles_by_slab();
+  sim.fit_body_fields();
+  sim.map_particles_to_nodes(true);
+  const double dt = 1e-4;
+  sim.compute_node_velocities();
+  sim.integrate_node_forces(dt);
+  Vec<D> grid_momentum = Vec<D>::Zero();
+  const auto& N = sim.fields()[0];
+  for (std::size_t i = 0; i < N.size(); ++i)
+    grid_momentum += N.m[i] * N.v_new[i];
+  sim.update_particles(dt); // moving does not change the momentum
+  Vec<D> particle_momentum = Vec<D>::Zero();
+  double mass = 0.0;
+  for (std::size_t p = 0; p < sim.particles().size(); ++p)
+    particle_momentum += sim.particles().m[p] * sim.particles().v[p], mass += sim.particles().m[p];
+  EXPECT_LT((particle_momentum - grid_momentum).norm(), 1e-12 * mass);
+}
+
+} // namespace
+} // namespace talus
