@@ -7,6 +7,7 @@
 #include "talus/setup/seeds.hpp"
 #include "talus/solver/simulation.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <string>
 
@@ -16,11 +17,10 @@ namespace {
 // The estimate `talus check` prints and the parser refuses by is within 25 % of the rise of the
 // peak resident set over building the simulation and 20 steps.
 template <int D>
-void expect_estimate_near_peak(const std::string& file, const std::vector<std::string>& set) {
+void expect_estimate_near_peak(const Case& c, const std::string& file) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer's shadow memory is in the resident set";
 #endif
-  const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/" + file, set);
   std::vector<std::size_t> counts;
   for (std::size_t b = 0; b < c.bodies.size(); ++b)
     counts.push_back(count_particles(c, b));
@@ -39,6 +39,12 @@ void expect_estimate_near_peak(const std::string& file, const std::vector<std::s
       << file << ": estimate " << estimate / 1e6 << " MB, peak rise " << rise / 1e6 << " MB";
 }
 
+template <int D>
+void expect_estimate_near_peak(const std::string& file, const std::vector<std::string>& set) {
+  expect_estimate_near_peak<D>(parse_case_file(std::string(TALUS_SOURCE_DIR) + "/" + file, set),
+                               file);
+}
+
 TEST(MemoryEstimate, OneBodyColumnWithin25PercentOfThePeak) {
   expect_estimate_near_peak<2>("bench/column.toml", {});
 }
@@ -50,6 +56,34 @@ TEST(MemoryEstimate, ThreeBodyVaiontWithin25PercentOfThePeak) {
 
 TEST(MemoryEstimate, SphereIn3DWithin25PercentOfThePeak) {
   expect_estimate_near_peak<3>("cases/benchmarks/rolling_sphere.toml", {"grid.cell_size=0.05"});
+}
+
+// 2,000 blocks of 16 particles in rows on a 400 m floor: what grows with the number of bodies
+// (the pair tables, the contact record's rows, the scatter's offsets) is counted. Each block is
+// 1 m square; the rows are 4 m apart, so no two blocks touch.
+TEST(MemoryEstimate, TwoThousandSmallBodiesWithin25PercentOfThePeak) {
+  std::string text = R"(
+[simulation]
+dimension = 2
+end_time = 1.0
+gravity = [0, -9.81]
+[grid]
+extent = [400, 60]
+cell_size = 0.5
+[[material]]
+name = "m"
+density = 2000
+youngs_modulus = 1e7
+poisson_ratio = 0.25
+)";
+  for (int i = 0; i < 2000; ++i) {
+    const double x = 2.0 + 2.0 * (i % 190), y = 2.0 + 4.0 * (i / 190);
+    text += fmt::format("[[body]]\nname = \"b{}\"\nmaterial = \"m\"\n"
+                        "box = {{ min = [{}, {}], max = [{}, {}] }}\n",
+                        i, x, y, x + 1.0, y + 1.0);
+  }
+  expect_estimate_near_peak<2>(
+      parse_case_text(text, std::string(TALUS_SOURCE_DIR) + "/tests/inline.toml"), "2,000 blocks");
 }
 
 } // namespace

@@ -485,7 +485,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
   for (const auto& o : take_run_entries(doc, where, files))
     apply_override(doc, o, path);
   for (const auto& o : overrides)
-    apply_override(doc, o, path);
+    apply_override(doc, Override{o}, path);
 
   TableReader root(doc, "", where);
   Case c;

@@ -6,12 +6,14 @@
 
 namespace talus::case_reading {
 
-std::vector<std::string> take_run_entries(toml::table& doc, const Where& where, InputFiles& files) {
-  std::vector<std::string> sets;
+std::vector<Override> take_run_entries(toml::table& doc, const Where& where, InputFiles& files) {
+  std::vector<Override> sets;
   TableReader root(doc, "", where);
   for_each_entry(root, "run", [&](TableReader& r, std::size_t) {
-    for (std::string& s : string_list(r, "set"))
-      sets.push_back(std::move(s));
+    const std::vector<std::string> specs = string_list(r, "set");
+    for (std::size_t i = 0; i < specs.size(); ++i) // each named by its line in case.toml
+      sets.push_back({specs[i], fmt::format("[[run]] set (line {})",
+                                            r.array("set")->get(i)->source().begin.line)});
     std::map<std::string, std::string> renames;
     if (const toml::table* t = r.table("files"))
       for (auto&& [k, v] : *t) {

@@ -13,8 +13,8 @@
 namespace talus::case_reading {
 
 // Takes the [[run]] entries out of the document: their renames go to `files`, in order; returns
-// their overrides in order.
-std::vector<std::string> take_run_entries(toml::table& doc, const Where& where, InputFiles& files);
+// their overrides in order, each with its line.
+std::vector<Override> take_run_entries(toml::table& doc, const Where& where, InputFiles& files);
 
 // The case text a run folder keeps: the text as written, then a [[run]] entry with this run's
 // overrides and the renames its copy needs to read inputs/ (none if there is nothing to add).

@@ -127,6 +127,14 @@ double estimate_memory(const Case& c, const std::vector<std::size_t>& particles)
   const double nodes = grid_nodes(c.grid, dim);
   const bool contact = c.bodies.size() > 1, remap = c.simulation.scheme == Scheme::musl;
   double memory = nodes * bytes_per_grid_node;
+  // What grows with the number of bodies B: the pair tables (B x B: the contact forces and their
+  // time means, the pairs' friction and interface index); per node row along x the contact
+  // record's work per body and sums per interface; per slab of 4 rows the scatter's offsets.
+  const double B = static_cast<double>(c.bodies.size());
+  const double rows = std::floor(c.grid.extent[0] / c.grid.cell_size + 1e-9) + 2.0;
+  memory += B * B * (2.0 * sizeof(double) * dim + sizeof(double) + sizeof(int));
+  if (contact) memory += rows * (B * sizeof(double) + 3.0 * sizeof(double) * c.interfaces.size());
+  memory += (rows / 4.0 + 1.0) * B * sizeof(std::size_t);
   for (std::size_t b = 0; b < c.bodies.size(); ++b) {
     const BodySpec& body = c.bodies[b];
     int slots = 0;

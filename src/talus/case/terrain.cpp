@@ -7,10 +7,14 @@
 #include <cpl_error.h>
 #include <filesystem>
 #include <fmt/format.h>
+#include <fstream>
 #include <gdal_priv.h>
 #include <mutex>
 #include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
+#include <sstream>
+#include <string>
+#include <vector>
 
 namespace talus {
 
@@ -77,6 +81,56 @@ void require_projected(const std::string& path, const OGRSpatialReference* srs) 
                                 path, crs_name(wkt_of(srs))));
 }
 
+// At most 40 characters of `word`, anything not printable ASCII shown as '?': what an error
+// may quote of a file's content.
+std::string printable(const std::string& word) {
+  std::string out = word.substr(0, 40);
+  for (char& ch : out)
+    if (ch < 0x20 || ch > 0x7e) ch = '?';
+  return out + (word.size() > 40 ? "..." : "");
+}
+
+// An ESRI ASCII grid checked where GDAL is silent or vague: each header line's key is one the
+// format has (naming the line of one that is not), and the file holds ncols x nrows values (GDAL
+// reads the first ncols x nrows values and ignores the rest). `opened`: whether GDAL read it.
+void check_ascii_grid(const std::string& path, bool opened) {
+  std::ifstream in(path);
+  static const std::vector<std::string> keys = {
+      "ncols",     "nrows",    "xllcorner", "yllcorner", "xllcenter",
+      "yllcenter", "cellsize", "dx",        "dy",        "nodata_value"};
+  std::string line;
+  int number = 0;
+  long long ncols = -1, nrows = -1;
+  std::streampos values = 0;
+  while (values = in.tellg(), std::getline(in, line)) {
+    ++number;
+    std::istringstream words(line);
+    std::string key;
+    if (!(words >> key)) continue;
+    if (!std::isalpha(static_cast<unsigned char>(key[0]))) break; // the values start
+    std::string lower = key;
+    for (char& ch : lower)
+      ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (std::find(keys.begin(), keys.end(), lower) == keys.end())
+      throw CaseError(fmt::format("{}:{}: '{}' is not a key of an ESRI ASCII grid's header (ncols, "
+                                  "nrows, xllcorner or xllcenter, yllcorner or yllcenter, "
+                                  "cellsize, NODATA_value)",
+                                  path, number, printable(key)));
+    if (lower == "ncols") words >> ncols;
+    if (lower == "nrows") words >> nrows;
+  }
+  if (!opened || ncols <= 0 || nrows <= 0) return;
+  in.clear();
+  in.seekg(values);
+  long long count = 0;
+  for (std::string word; in >> word;)
+    ++count;
+  if (count != ncols * nrows)
+    throw CaseError(fmt::format("{}: its header says {} x {} cells ({} values) but the file holds "
+                                "{} values after the header",
+                                path, ncols, nrows, ncols * nrows, count));
+}
+
 } // namespace
 
 std::shared_ptr<const Raster> read_raster(const std::string& path,
@@ -85,8 +139,16 @@ std::shared_ptr<const Raster> read_raster(const std::string& path,
     throw CaseError(fmt::format("{}: is a folder, not a raster", path));
   QuietGdal quiet;
   GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-  if (!ds)
-    throw CaseError(fmt::format("{}: cannot read it as a raster{}", path, QuietGdal::last()));
+  const std::string ext = std::filesystem::path(path).extension().string();
+  const bool ascii = ext == ".asc" || ext == ".ASC" ||
+                     (ds && std::string(ds->GetDriver()->GetDescription()) == "AAIGrid");
+  if (!ds) {
+    const std::string why = QuietGdal::last();
+    if (ascii) check_ascii_grid(path, false); // a header typo, named by its line
+    throw CaseError(
+        fmt::format("{}: GDAL does not read it as a raster of a format it knows{}", path, why));
+  }
+  if (ascii) check_ascii_grid(path, true);
   auto r = std::make_shared<Raster>();
   r->file = path;
   r->nx = ds->GetRasterXSize();

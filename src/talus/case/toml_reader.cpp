@@ -33,10 +33,12 @@ std::string suggest(const std::string& word, const std::vector<std::string>& cho
   return best.empty() ? std::string{} : fmt::format(" (did you mean '{}'?)", best);
 }
 
-void apply_override(toml::table& doc, const std::string& spec, const std::string& file) {
+void apply_override(toml::table& doc, const Override& o, const std::string& file) {
+  const std::string& spec = o.spec;
+  const std::string& from = o.origin;
   const auto eq = spec.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw CaseError(fmt::format("{}: --set '{}': expected key.path=value", file, spec));
+    throw CaseError(fmt::format("{}: {} '{}': expected key.path=value", file, from, spec));
   const std::string path = spec.substr(0, eq);
   const std::string text = spec.substr(eq + 1);
   std::vector<std::string> keys;
@@ -59,33 +61,34 @@ void apply_override(toml::table& doc, const std::string& spec, const std::string
           next = a->get(j);
       }
     }
-    if (!next) throw CaseError(fmt::format("{}: --set {}: no entry '{}'", file, path, walked));
+    if (!next) throw CaseError(fmt::format("{}: {} {}: no entry '{}'", file, from, path, walked));
     node = next;
   }
   auto* t = node->as_table();
-  if (!t) throw CaseError(fmt::format("{}: --set {}: '{}' is not a table", file, path, walked));
+  if (!t) throw CaseError(fmt::format("{}: {} {}: '{}' is not a table", file, from, path, walked));
   // A key the document does not have at the top level may be one of a section's: say which.
   if (keys.size() == 1 && !t->get(keys[0]))
     for (const auto& [section, node] : doc)
       if (const auto* sub = node.as_table(); sub && sub->get(keys[0]))
-        throw CaseError(fmt::format("{}: --set {}: no top-level key '{}' (did you mean {}.{}?)",
-                                    file, path, keys[0], section.str(), keys[0]));
+        throw CaseError(fmt::format("{}: {} {}: no top-level key '{}' (did you mean {}.{}?)", file,
+                                    from, path, keys[0], section.str(), keys[0]));
   toml::table parsed;
   try {
-    parsed = toml::parse("v = " + text);
+    parsed = toml::parse("v = " + text, from); // the value's source path names the override
   } catch (const toml::parse_error& e) {
     // A bare word (letters, digits, '_' and '-') is a string; anything else must be TOML.
     const bool bare = !text.empty() && std::all_of(text.begin(), text.end(), [](char ch) {
       return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
     });
     if (!bare)
-      throw CaseError(fmt::format("{}: --set {}: the value '{}' does not parse as TOML ({}): "
+      throw CaseError(fmt::format("{}: {} {}: the value '{}' does not parse as TOML ({}): "
                                   "write a number, true/false, a quoted string or an array "
                                   "[...]",
-                                  file, path, text, e.description()));
-    parsed.insert_or_assign("v", text);
+                                  file, from, path, text, e.description()));
+    parsed =
+        toml::parse("v = \"" + text + "\"", from); // no character of a bare word needs escaping
   }
-  t->insert_or_assign(keys.back(), *parsed.get("v"));
+  t->insert_or_assign(keys.back(), std::move(*parsed.get("v"))); // moved: keeps its source
 }
 
 } // namespace case_reading

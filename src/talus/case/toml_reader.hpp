@@ -21,13 +21,17 @@ namespace talus::case_reading {
 // " (did you mean 'x'?)" for the choice nearest `word`, or nothing if none is near.
 std::string suggest(const std::string& word, const std::vector<std::string>& choices);
 
-// Where an error points: the file and the line of a node (0 when it came from --set).
+// Where an error points: the file and the line of a node. A value an override set carries the
+// override's origin as its source path ("--set", or the run folder's "[[run]] set (line N)"); a
+// table an override made has no line at all.
 struct Where {
   std::string file;
   [[noreturn]] void fail(const toml::source_region& src, const std::string& key,
                          const std::string& msg) const {
     const auto line = src.begin.line;
-    if (line == 0) throw CaseError(fmt::format("{}: (from --set) {}: {}", file, key, msg));
+    if (line != 0 && src.path && *src.path != file)
+      throw CaseError(fmt::format("{}: (from {}) {}: {}", file, *src.path, key, msg));
+    if (line == 0) throw CaseError(fmt::format("{}: (from an override) {}: {}", file, key, msg));
     throw CaseError(fmt::format("{}:{}: {}: {}", file, line, key, msg));
   }
 };
@@ -292,8 +296,15 @@ inline std::vector<std::string> string_list(TableReader& r, const std::string& k
   return out;
 }
 
-// Applies "a.b.c=value" (--set) to the document: segments index arrays by number or by an
-// entry's name; the value is TOML, or a bare word taken as a string. Throws CaseError.
-void apply_override(toml::table& doc, const std::string& spec, const std::string& file);
+// An override "a.b.c=value" and where it came from: "--set", or "[[run]] set (line N)" of a run
+// folder's case.toml (which errors name).
+struct Override {
+  std::string spec;
+  std::string origin = "--set";
+};
+
+// Applies an override to the document: segments index arrays by number or by an entry's name;
+// the value is TOML, or a bare word taken as a string. Throws CaseError naming its origin.
+void apply_override(toml::table& doc, const Override& o, const std::string& file);
 
 } // namespace talus::case_reading

@@ -95,7 +95,10 @@ void for_each_seed(const Case& c, const BodySpec& b, F&& f) {
   }
   Index<D> i = lo;
   if (D == 0 || total == 0) return;
-  for (int d = 0; d < D; ++d)
+  // A terrain's columns are visited even where its z range is empty, so that a bottom above its
+  // top everywhere is refused at a point, not taken for a body without particles.
+  const int spanned = D == 3 && g.kind == Geometry::Kind::terrain ? 2 : D;
+  for (int d = 0; d < spanned; ++d)
     if (lo[d] >= hi[d]) return;
   if constexpr (D == 3) {
     if (g.kind == Geometry::Kind::terrain) {

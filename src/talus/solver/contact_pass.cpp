@@ -18,10 +18,14 @@ using detail::is_slave;
 
 // The global node range [lo, hi) where at least two bodies' frames overlap (the same on every
 // process); false if none do. A node outside a body's stored box has none of its mass here.
+// `pairs`: the pairs whose frames overlap, the only ones that can meet, as a * B + b for both
+// orders, ascending.
 template <int D>
-bool shared_nodes(const std::vector<BodyField<D>>& fields, Index<D>& lo, Index<D>& hi) {
+bool shared_nodes(const std::vector<BodyField<D>>& fields, Index<D>& lo, Index<D>& hi,
+                  std::vector<std::int64_t>& pairs) {
   const int B = static_cast<int>(fields.size());
   bool any = false;
+  pairs.clear();
   for (int a = 0; a < B; ++a)
     for (int b = a + 1; b < B; ++b) {
       Index<D> l, h;
@@ -33,10 +37,12 @@ bool shared_nodes(const std::vector<BodyField<D>>& fields, Index<D>& lo, Index<D
         overlap = overlap && l[d] < h[d];
       }
       if (!overlap) continue;
+      pairs.push_back(std::int64_t{a} * B + b), pairs.push_back(std::int64_t{b} * B + a);
       for (int d = 0; d < D; ++d)
         lo[d] = any ? std::min(lo[d], l[d]) : l[d], hi[d] = any ? std::max(hi[d], h[d]) : h[d];
       any = true;
     }
+  std::sort(pairs.begin(), pairs.end());
   return any;
 }
 
@@ -174,9 +180,10 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
   const int B = num_bodies();
   if (B < 2) return;
   Index<D> lo, hi;
-  const bool any = shared_nodes<D>(fields_, lo, hi);
+  std::vector<std::int64_t> pairs;
+  const bool any = shared_nodes<D>(fields_, lo, hi, pairs);
   const std::int64_t rows = any ? hi[0] - lo[0] : 0;
-  if (record) record_.begin(rows, setup_.record_contact_nodes);
+  if (record) record_.begin(rows, setup_.record_contact_nodes, std::move(pairs));
   if (!any) return;
   // On several processes, only the rows this process's particles can complete: contact at a
   // node reads and writes that node (and its smoothing neighbours) alone.

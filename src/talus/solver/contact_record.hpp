@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 namespace talus {
@@ -92,15 +93,19 @@ struct ContactRecord {
     impulse_time = 0.0;
   }
 
-  // The step's recorded pass starts: last step's forces and nodes go; `rows` node rows follow.
-  void begin(std::int64_t rows, bool with_nodes) {
+  // The step's recorded pass starts: last step's forces and nodes go; `rows` node rows follow,
+  // in which only `pairs` (a * B + b, ascending: the pairs whose boxes overlap) can meet. Each
+  // row sums per pair that can meet, not per B x B: 2,000 bodies cost their neighbours, not 4e6
+  // slots per row.
+  void begin(std::int64_t rows, bool with_nodes, std::vector<std::int64_t> pairs = {}) {
     std::fill(force_.begin(), force_.end(), Vec<D>::Zero());
     std::fill(interface_force.begin(), interface_force.end(), InterfaceForce{});
     for (auto& row : node_rows_)
       row.clear(); // keeps the capacity: no allocation once warmed up
     rows_ = rows;
+    pairs_ = std::move(pairs);
     if (rows == 0) return;
-    force_rows_.assign(rows * B * B, Vec<D>::Zero());
+    force_rows_.assign(rows * static_cast<std::int64_t>(pairs_.size()), Vec<D>::Zero());
     work_rows_.assign(rows * B, 0.0);
     if (with_nodes && static_cast<std::int64_t>(node_rows_.size()) < rows) node_rows_.resize(rows);
     interface_rows_.assign(rows * interface_force.size(), InterfaceForce{});
@@ -108,7 +113,11 @@ struct ContactRecord {
   // Row r's contributions: body k's contact force from `other` and work, an interface's forces
   // (slave side), a contact node.
   void add_force(std::int64_t r, int k, int other, const Vec<D>& f) {
-    force_rows_[(r * B + k) * B + other] += f;
+    const std::int64_t key = std::int64_t{k} * B + other;
+    const auto at = std::lower_bound(pairs_.begin(), pairs_.end(), key);
+    if (at == pairs_.end() || *at != key)
+      throw std::logic_error("contact between bodies whose boxes do not overlap");
+    force_rows_[r * static_cast<std::int64_t>(pairs_.size()) + (at - pairs_.begin())] += f;
   }
   void add_work(std::int64_t r, int k, double w) { work_rows_[r * B + k] += w; }
   void add_interface(std::int64_t r, int f, double cohesive, double frictional, double normal) {
@@ -118,9 +127,10 @@ struct ContactRecord {
   void add_node(std::int64_t r, const ContactNodeForce<D>& n) { node_rows_[r].push_back(n); }
   // The rows summed in row order into the step's totals and the bodies' work.
   void end() {
+    const std::size_t P = pairs_.size();
     for (std::int64_t r = 0; r < rows_; ++r)
-      for (int k = 0; k < B * B; ++k)
-        force_[k] += force_rows_[r * B * B + k];
+      for (std::size_t s = 0; s < P; ++s)
+        force_[pairs_[s]] += force_rows_[r * P + s];
     for (std::int64_t r = 0; r < rows_; ++r)
       for (int b = 0; b < B; ++b)
         work[b] += work_rows_[r * B + b];
@@ -142,7 +152,7 @@ struct ContactRecord {
     const std::size_t F = interface_force.size();
     for (std::int64_t r = 0; r < rows_; ++r) {
       if (owns(first_plane + r)) continue;
-      std::fill_n(force_rows_.begin() + r * B * B, B * B, Vec<D>::Zero());
+      std::fill_n(force_rows_.begin() + r * pairs_.size(), pairs_.size(), Vec<D>::Zero());
       std::fill_n(work_rows_.begin() + r * B, B, 0.0);
       std::fill_n(interface_rows_.begin() + r * F, F, InterfaceForce{});
       if (static_cast<std::int64_t>(node_rows_.size()) > r) node_rows_[r].clear();
@@ -178,7 +188,8 @@ struct ContactRecord {
 
 private:
   std::int64_t rows_ = 0;
-  std::vector<Vec<D>> force_rows_;                          // per row x B x B
+  std::vector<std::int64_t> pairs_;                         // the pairs that can meet
+  std::vector<Vec<D>> force_rows_;                          // per row x pair of pairs_
   std::vector<double> work_rows_;                           // per row x B
   std::vector<InterfaceForce> interface_rows_;              // per row x interface
   std::vector<std::vector<ContactNodeForce<D>>> node_rows_; // per row

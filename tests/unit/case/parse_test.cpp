@@ -81,6 +81,24 @@ TEST(ParseCase, OverridesReplaceKeysByPathAndByName) {
   EXPECT_NE(c.text.find("material.0.density=2500"), std::string::npos); // in a [[run]] entry
 }
 
+// An error in a value an override set names the override (--set), not a line of the file.
+TEST(ParseCase, AnOverridesErrorNamesTheOverride) {
+  auto message = [](const std::string& set) {
+    try {
+      test::case_from(good, {set});
+    } catch (const CaseError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_NE(message("grid.cell_size=\"x\"").find("(from --set) grid.cell_size: expected a number"),
+            std::string::npos);
+  EXPECT_NE(message("simulation.scheme=usx").find("(from --set) simulation.scheme:"),
+            std::string::npos);
+  EXPECT_NE(message("body.nosuch.density=1").find("--set body.nosuch.density: no entry"),
+            std::string::npos);
+}
+
 // The case a run folder keeps: the text as written, then a [[run]] entry of the overrides and of
 // the renames to the copies in inputs/. Parsed again from the run folder, it is the same case.
 TEST(ParseCase, TheCaseAsRunIsTheTextAsWrittenAndARunEntry) {
@@ -235,7 +253,16 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"run_unknown_key", "[output]", "[[run]]\nsets = []\n[output]",
                 "run[0].sets: unknown key (did you mean 'set'?)"},
         BadCase{"run_bad_override", "[output]", "[[run]]\nset = ['grid.cell_size']\n[output]",
-                "expected key.path=value"}),
+                "inline.toml: [[run]] set (line 39) 'grid.cell_size': expected key.path=value"},
+        BadCase{"run_set_no_entry", "[output]",
+                "[[run]]\nset = ['simulation.end_time=2', 'body.nosuch.density=1']\n[output]",
+                "[[run]] set (line 39) body.nosuch.density: no entry 'body.nosuch'"},
+        BadCase{"run_set_bad_value", "[output]",
+                "[[run]]\nset = [\n  'grid.cell_size=\"x\"',\n]\n[output]",
+                "inline.toml: (from [[run]] set (line 40)) grid.cell_size: expected a number"},
+        BadCase{"run_set_bad_word", "[output]",
+                "[[run]]\nset = ['simulation.scheme=usx']\n[output]",
+                "(from [[run]] set (line 39)) simulation.scheme: 'usx' is not one of"}),
     [](const auto& info) { return info.param.name; });
 
 } // namespace

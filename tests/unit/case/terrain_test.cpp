@@ -14,6 +14,7 @@
 #include <functional>
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
+#include <iterator>
 #include <ogr_spatialref.h>
 
 namespace talus {
@@ -351,6 +352,20 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
   write_asc(dir + "/degrees.asc", 40, 30, 0.0, 0.0, 1.0, flat(20.0));
   write_prj(dir + "/degrees.prj", 4326);
   std::ofstream(dir + "/not_a_raster.asc") << "hello\n";
+  std::ofstream(dir + "/not_a_raster.tif") << "hello\n";
+  // A header typo on the first or a later line; a header of 5 x 5 cells over 10 x 10 values.
+  auto edit = [&](const std::string& from, const std::string& to, const std::string& was,
+                  const std::string& now) {
+    std::ifstream in(dir + "/" + from);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.replace(text.find(was), was.size(), now);
+    std::ofstream(dir + "/" + to) << text;
+  };
+  write_asc(dir + "/ten.asc", 10, 10, 0.0, 0.0, 4.0, flat(20.0));
+  edit("ten.asc", "typo.asc", "nrows", "nrowz");
+  edit("ten.asc", "typo_first.asc", "ncols", "ncolls");
+  edit("ten.asc", "short_header.asc", "ncols 10\nnrows 10\n", "ncols 5\nnrows 5\n");
+  write_asc(dir + "/high.asc", 40, 30, 0.0, 0.0, 1.0, flat(30.0));
   {
     // A float GeoTIFF with a NaN where the file declares no no-data value.
     GDALAllRegister();
@@ -378,8 +393,18 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
                  {"terrain.bottom", "coordinate system", "32632", "3003"});
   expect_refused(terrain(fmt::format("top = '{0}/degrees.asc', bottom = 2.0", dir)),
                  {"degrees.asc", "in degrees", "reproject"});
-  expect_refused(terrain(fmt::format("top = '{0}/not_a_raster.asc', bottom = 2.0", dir)),
-                 {"not_a_raster.asc", "cannot read it as a raster", "terrain.top"});
+  expect_refused(
+      terrain(fmt::format("top = '{0}/not_a_raster.asc', bottom = 2.0", dir)),
+      {"not_a_raster.asc:1: 'hello' is not a key of an ESRI ASCII grid's header", "terrain.top"});
+  expect_refused(terrain(fmt::format("top = '{0}/not_a_raster.tif', bottom = 2.0", dir)),
+                 {"not_a_raster.tif: GDAL does not read it as a raster", "terrain.top"});
+  expect_refused(terrain(fmt::format("top = '{0}/typo.asc', bottom = 2.0", dir)),
+                 {"typo.asc:2: 'nrowz' is not a key", "terrain.top"});
+  expect_refused(terrain(fmt::format("top = '{0}/typo_first.asc', bottom = 2.0", dir)),
+                 {"typo_first.asc:1: 'ncolls' is not a key", "terrain.top"});
+  expect_refused(terrain(fmt::format("top = '{0}/short_header.asc', bottom = 2.0", dir)),
+                 {"short_header.asc", "header says 5 x 5 cells (25 values)",
+                  "holds 100 values after the header"});
   expect_refused(terrain(fmt::format("top = 30.0, bottom = '{0}/nan.tif'", dir)),
                  {"nan.tif", "row 1, column 0", "nan", "not an elevation"});
   expect_refused(terrain(fmt::format("top = 30.0, bottom = '{0}/one_cell.asc'", dir)),
@@ -388,6 +413,9 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
                  {"missing.tif", "missing.tif: no such file"});
   expect_refused(terrain(fmt::format("top = '{0}/crossing.asc', bottom = 20.0", dir)),
                  {"bottom (20 m) is above its top (10 m)", "crossing.asc", "row", "column"}, true);
+  // A bottom above its top everywhere: the surfaces' ranges do not overlap at all.
+  expect_refused(terrain(fmt::format("top = '{0}/top.asc', bottom = '{0}/high.asc'", dir)),
+                 {"bottom (30 m) is above its top (20 m) at x =", "row", "column"}, true);
   expect_refused(terrain("top = 10.0, bottom = 2.0"), {"need a footprint"});
   expect_refused(terrain("top = 10.0, bottom = 12.0, " + fp), {"is not below the top"});
   expect_refused(terrain("top = 10.0, bottom = { depth = -1 }, " + fp), {"depth", "> 0"});
