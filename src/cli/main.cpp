@@ -135,6 +135,7 @@ int run_and_report(F&& go) {
 int main(int argc, char** argv) {
   talus::share_cores(argv);      // idle OpenMP threads sleep: runs side by side do not collapse
   std::signal(SIGXFSZ, SIG_IGN); // a full file-size limit becomes a write error, not a kill
+  std::signal(SIGPIPE, SIG_IGN); // a closed stdout (run | head) loses the log, not the run
   talus::ProcessSession processes(&argc, &argv); // MPI, in the mpi preset
   CLI::App app{"Talus: multi-body Material Point Method for landslides"};
   app.set_version_flag("--version", std::string("talus ") + talus::version);
@@ -207,7 +208,7 @@ int main(int argc, char** argv) {
   verify->add_option("--out", verify_out, "report folder (default: verification)");
   verify->add_option("--cases", verify_cases, "only these cases (file stems)");
   verify->add_option("--source", source_dir, "the Talus source folder");
-  verify->add_option("--threads", threads, "OpenMP threads per run");
+  verify->add_option("--threads", threads, "OpenMP threads per run")->check(CLI::Range(1, 1024));
   verify->add_flag("--update-docs", update_docs, "write the table into docs/verification.md");
 
   // Command-line errors exit with status 2, as case-file errors do (help and version: 0).

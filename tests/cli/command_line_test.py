@@ -7,6 +7,7 @@ the free disk.
 
 Usage: command_line_test.py TALUS SOURCE_DIR WORK_DIR
 """
+import json
 import shutil
 import subprocess
 import sys
@@ -48,6 +49,19 @@ expect(["check", case, "--set", "simulation.gravity=[0,"], 2, "does not parse as
 expect(["check", case, "--set", "body.block.velocity=[1e999,0]"], 2, "does not parse as TOML")
 expect(["check", case, "--set", "end_time=1"], 2, "did you mean simulation.end_time?")
 expect(["check", case, "--set", "simulation.scheme=usf"], 0, "particles")  # a bare word: string
+expect(["verify", "--threads", "-1", "--out", str(work / "report")], 2, "--threads")
+# A closed stdout (talus run ... | head -c 1) loses the log, not the run: it ends stopped, not
+# killed by SIGPIPE with its summary left at "running".
+piped = subprocess.Popen([talus, "run", case, "--out", str(work / "piped"), "--max-steps", "50"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+piped.stdout.read(1)
+piped.stdout.close()
+piped.wait(timeout=120)
+summary = json.loads((work / "piped" / "summary.json").read_text())
+ok = piped.returncode == 0 and summary["status"] == "stopped"
+print(("ok   " if ok else "FAIL ") + f"a closed stdout: exit {piped.returncode}, {summary['status']}")
+if not ok:
+    failures.append("closed stdout")
 # A probe far from its body is warned of (talus run prints the set-up's warnings).
 p = subprocess.run([talus, "run", case, "--out", str(work / "probe"), "--max-steps", "1", "--set",
                     "probe.block_top.near=[0.3, 1.9]"], capture_output=True, text=True, timeout=60)
