@@ -206,7 +206,7 @@ int main(int argc, char** argv) {
   verify->add_flag("--quick", verify_quick, "CI resolution (the default)");
   verify->add_flag("--full", verify_full, "the paper's resolution")->excludes("--quick");
   verify->add_option("--out", verify_out, "report folder (default: verification)");
-  verify->add_option("--cases", verify_cases, "only these cases (file stems)");
+  auto* cases_opt = verify->add_option("--cases", verify_cases, "only these cases (file stems)");
   verify->add_option("--source", source_dir, "the Talus source folder");
   verify->add_option("--threads", threads, "OpenMP threads per run")->check(CLI::Range(1, 1024));
   verify->add_flag("--update-docs", update_docs, "write the table into docs/verification.md");
@@ -221,6 +221,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (verify->parsed()) {
+    // A bare --cases is not "all cases" (the parser hands it the options after it as names).
+    if (cases_opt->count() > 0 &&
+        (verify_cases.empty() ||
+         std::any_of(verify_cases.begin(), verify_cases.end(),
+                     [](const std::string& s) { return s.empty() || s[0] == '-'; }))) {
+      fmt::print(stderr, "error: verify: --cases needs case names (file stems), not options\n");
+      return 2;
+    }
     char self[4096];
     const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
     if (n <= 0) {

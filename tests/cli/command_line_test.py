@@ -48,8 +48,18 @@ expect(["verify", "--out", str(work / "a_file")], 2, "cannot make the report fol
 expect(["check", case, "--set", "simulation.gravity=[0,"], 2, "does not parse as TOML")
 expect(["check", case, "--set", "body.block.velocity=[1e999,0]"], 2, "does not parse as TOML")
 expect(["check", case, "--set", "end_time=1"], 2, "did you mean simulation.end_time?")
+expect(["check", case, "--set", "grid..cell_size=1"], 2, "--set 'grid..cell_size': a key path")
+expect(["check", case, "--set", ".grid=1"], 2, "--set '.grid': a key path with an empty part")
 expect(["check", case, "--set", "simulation.scheme=usf"], 0, "particles")  # a bare word: string
 expect(["verify", "--threads", "-1", "--out", str(work / "report")], 2, "--threads")
+expect(["verify", "--cases", "--out", str(work / "report")], 2, "--cases")
+# A terminal escape in a --set value is not echoed raw by its error.
+p = subprocess.run([talus, "check", case, "--set", "title=\x1b[31mred\x1b[0m"],
+                   capture_output=True, text=True, timeout=30)
+ok = p.returncode == 2 and "--set title" in p.stderr and "\x1b" not in p.stderr + p.stdout
+print(("ok   " if ok else "FAIL ") + f"an escape in a --set value is not echoed (exit {p.returncode})")
+if not ok:
+    failures.append("escape echoed")
 # A closed stdout (talus run ... | head -c 1) loses the log, not the run: it ends stopped, not
 # killed by SIGPIPE with its summary left at "running".
 piped = subprocess.Popen([talus, "run", case, "--out", str(work / "piped"), "--max-steps", "50"],

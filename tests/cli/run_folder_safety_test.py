@@ -95,6 +95,16 @@ check(code == 2 and "notes.txt" in out and listing(d) == before,
 (d / "notes.txt").unlink()
 code, out = run(case, "--out", d, "--overwrite", *short)
 check(code == 0, f"--overwrite of a run folder of talus's files alone (exit {code})")
+# A user's file in the run's inputs/: talus's copies are those its case.toml names.
+check((d / "inputs/wedge.csv").is_file(), "the run copied its polygon into inputs/")
+(d / "inputs/mine.csv").write_text("x,y\n")
+code, out = run(case, "--out", d, "--overwrite", *short)
+check(code == 2 and "inputs/mine.csv" in out and (d / "inputs/mine.csv").is_file(),
+      f"--overwrite refuses a run folder with a user's file in inputs/, nothing removed (exit "
+      f"{code}): {out.strip()[-160:]}")
+(d / "inputs/mine.csv").unlink()
+code, out = run(case, "--out", d, "--overwrite", *short)
+check(code == 0, f"--overwrite once the user's file is gone (exit {code})")
 
 # A run holds its folder: a second run and a restart are refused while it goes; kill -9 frees it.
 busy = work / "busy"
@@ -223,6 +233,18 @@ s = json.loads((hup / "summary.json").read_text())
 check(p.returncode == 128 + signal.SIGHUP and s["status"] == "interrupted"
       and list((hup / "checkpoints").glob("*.ckpt")),
       f"SIGHUP stops with a checkpoint (exit {p.returncode}, status {s['status']})")
+
+# A frame the checkpoint lists, deleted: the restart refuses to continue the folder (it would end
+# "completed" with particles.pvd listing a file that is not there), and writes nothing.
+gone = work / "frame_gone"
+code, _ = run(case, "--out", gone, *short, "--max-steps", "20")
+check(code == 0 and (gone / "particles_000000.vtu").is_file(), f"a stopped run (exit {code})")
+(gone / "particles_000000.vtu").unlink()
+before = listing(gone)
+code, out = run("--restart", gone)
+check(code == 2 and "particles_000000.vtu: a frame the checkpoint lists is missing" in out
+      and not (gone / "particles_000000.vtu").exists(),
+      f"a restart with a listed frame deleted is refused (exit {code}): {out.strip()[-160:]}")
 
 print(f"{len(failures)} failure(s)")
 sys.exit(1 if failures else 0)

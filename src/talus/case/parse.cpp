@@ -472,8 +472,47 @@ void read_water(TableReader& root, Case& c) {
 
 } // namespace
 
+namespace {
+
+// A dotted key or table header nested deeper than any case needs (a.a.a... 100,000 deep made the
+// TOML reader recurse off the stack): refused, naming the line, before the text is parsed. Dots
+// inside quotes do not count.
+void refuse_deep_keys(const std::string& text, const std::string& path) {
+  constexpr int max_depth = 32;
+  std::size_t at = 0;
+  for (int line = 1; at < text.size(); ++line) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    int dots = 0;
+    char quote = 0;
+    std::size_t i = std::min(text.find_first_not_of(" \t", at), end);
+    for (int k = 0; k < 2 && i < end && text[i] == '['; ++k)
+      ++i; // a [table] or [[array]] header
+    for (; i < end; ++i) {
+      const char ch = text[i];
+      if (quote) {
+        if (ch == quote) quote = 0;
+      } else if (ch == '"' || ch == '\'') {
+        quote = ch;
+      } else if (ch == '.') {
+        ++dots;
+      } else if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' &&
+                 ch != ' ' && ch != '\t') {
+        break; // past the key: '=', ']', ',', a comment
+      }
+    }
+    if (dots >= max_depth)
+      throw CaseError(fmt::format("{}:{}: a key nested {} tables deep; a case's keys are at "
+                                  "most {} deep",
+                                  path, line, dots + 1, max_depth));
+    at = end + 1;
+  }
+}
+
+} // namespace
+
 Case parse_case_text(const std::string& text, const std::string& path,
                      const std::vector<std::string>& overrides, const MemoryBudget& budget) {
+  refuse_deep_keys(text, path);
   toml::table doc;
   try {
     doc = toml::parse(text, path);

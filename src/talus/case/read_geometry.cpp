@@ -92,7 +92,7 @@ std::vector<std::array<double, 2>> read_polygon(TableReader& r, const std::strin
   std::vector<std::array<double, 2>> v;
   const toml::node* n = r.find(key);
   if (n->is_string()) {
-    const std::string written = n->value<std::string>().value();
+    const std::string written = r.string(key); // printable: it reaches the messages
     if (written.empty()) r.fail(key, "the file name is empty");
     file = files.resolve(written);
     try {
@@ -132,7 +132,7 @@ TerrainSurface read_surface(TableReader& t, const std::string& key, bool bottom,
   const toml::node* n = t.find(key);
   if (!n) t.fail_missing(key);
   if (n->is_string()) {
-    const std::string written = n->value<std::string>().value();
+    const std::string written = t.string(key); // printable: it reaches the messages
     if (written.empty()) t.fail(key, "the file name is empty");
     const std::string path = files.resolve(written);
     files.add_sidecars(path);

@@ -1,6 +1,7 @@
 #include "talus/case/terrain.hpp"
 
 #include "talus/case/parse.hpp"
+#include "talus/case/toml_reader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -81,18 +82,10 @@ void require_projected(const std::string& path, const OGRSpatialReference* srs) 
                                 path, crs_name(wkt_of(srs))));
 }
 
-// At most 40 characters of `word`, anything not printable ASCII shown as '?': what an error
-// may quote of a file's content.
-std::string printable(const std::string& word) {
-  std::string out = word.substr(0, 40);
-  for (char& ch : out)
-    if (ch < 0x20 || ch > 0x7e) ch = '?';
-  return out + (word.size() > 40 ? "..." : "");
-}
-
 // An ESRI ASCII grid checked where GDAL is silent or vague: each header line's key is one the
-// format has (naming the line of one that is not), and the file holds ncols x nrows values (GDAL
-// reads the first ncols x nrows values and ignores the rest). `opened`: whether GDAL read it.
+// format has (naming the line of one that is not), given once; ncols and nrows are whole
+// numbers; and the file holds ncols x nrows values (GDAL reads the first ncols x nrows values and
+// ignores the rest). `opened`: whether GDAL read it.
 void check_ascii_grid(const std::string& path, bool opened) {
   std::ifstream in(path);
   static const std::vector<std::string> keys = {
@@ -101,6 +94,7 @@ void check_ascii_grid(const std::string& path, bool opened) {
   std::string line;
   int number = 0;
   long long ncols = -1, nrows = -1;
+  std::vector<std::string> seen;
   std::streampos values = 0;
   while (values = in.tellg(), std::getline(in, line)) {
     ++number;
@@ -116,8 +110,18 @@ void check_ascii_grid(const std::string& path, bool opened) {
                                   "nrows, xllcorner or xllcenter, yllcorner or yllcenter, "
                                   "cellsize, NODATA_value)",
                                   path, number, printable(key)));
-    if (lower == "ncols") words >> ncols;
-    if (lower == "nrows") words >> nrows;
+    if (std::find(seen.begin(), seen.end(), lower) != seen.end())
+      throw CaseError(fmt::format("{}:{}: '{}' is given twice in the header", path, number, key));
+    seen.push_back(lower);
+    if (lower == "ncols" || lower == "nrows") {
+      std::string count;
+      words >> count;
+      if (count.empty() || count.size() > 9 ||
+          !std::all_of(count.begin(), count.end(), [](char ch) { return ch >= '0' && ch <= '9'; }))
+        throw CaseError(fmt::format("{}:{}: {} '{}' is not a whole number of cells", path, number,
+                                    key, printable(count)));
+      (lower == "ncols" ? ncols : nrows) = std::stoll(count);
+    }
   }
   if (!opened || ncols <= 0 || nrows <= 0) return;
   in.clear();

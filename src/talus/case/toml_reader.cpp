@@ -23,6 +23,13 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 namespace case_reading {
 
+std::string printable(const std::string& text, std::size_t max) {
+  std::string out = text.substr(0, max);
+  for (char& ch : out)
+    if (ch < 0x20 || ch > 0x7e) ch = '?';
+  return out + (text.size() > max ? "..." : "");
+}
+
 std::string suggest(const std::string& word, const std::vector<std::string>& choices) {
   std::string best;
   std::size_t best_d = std::max<std::size_t>(3, word.size() / 2) + 1;
@@ -38,13 +45,18 @@ void apply_override(toml::table& doc, const Override& o, const std::string& file
   const std::string& from = o.origin;
   const auto eq = spec.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw CaseError(fmt::format("{}: {} '{}': expected key.path=value", file, from, spec));
+    throw CaseError(
+        fmt::format("{}: {} '{}': expected key.path=value", file, from, printable(spec)));
   const std::string path = spec.substr(0, eq);
   const std::string text = spec.substr(eq + 1);
   std::vector<std::string> keys;
   std::stringstream ss(path);
   for (std::string k; std::getline(ss, k, '.');)
     keys.push_back(k);
+  if (path.front() == '.' || path.back() == '.' ||
+      std::any_of(keys.begin(), keys.end(), [](const std::string& k) { return k.empty(); }))
+    throw CaseError(
+        fmt::format("{}: {} '{}': a key path with an empty part", file, from, printable(path)));
   toml::node* node = &doc;
   std::string walked;
   for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
@@ -84,7 +96,7 @@ void apply_override(toml::table& doc, const Override& o, const std::string& file
       throw CaseError(fmt::format("{}: {} {}: the value '{}' does not parse as TOML ({}): "
                                   "write a number, true/false, a quoted string or an array "
                                   "[...]",
-                                  file, from, path, text, e.description()));
+                                  file, from, printable(path), printable(text), e.description()));
     parsed =
         toml::parse("v = \"" + text + "\"", from); // no character of a bare word needs escaping
   }

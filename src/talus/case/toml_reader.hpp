@@ -18,6 +18,11 @@
 
 namespace talus::case_reading {
 
+// At most `max` characters of `text`, each byte that is not printable ASCII shown as '?': what a
+// message may quote of a user's value or a file's content (no terminal escape reaches the
+// terminal through an error).
+std::string printable(const std::string& text, std::size_t max = 60);
+
 // " (did you mean 'x'?)" for the choice nearest `word`, or nothing if none is near.
 std::string suggest(const std::string& word, const std::vector<std::string>& choices);
 

@@ -9,6 +9,8 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <fmt/format.h>
+#include <fstream>
+#include <iterator>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -53,11 +55,16 @@ bool talus_file(std::string_view name) {
   return numbered(name, "particles_", ".vtu") || numbered(name, "contact_nodes_", ".vtu");
 }
 
-// A regular file in one of talus's sub-folders: the input copies, the checkpoints, the plots
-// its tools draw.
-bool talus_file_in(std::string_view folder, std::string_view name) {
-  if (folder == "inputs") return true; // copies of the case's inputs, under their own names
+// A regular file in one of talus's sub-folders: the input copies (each named, quoted, in the
+// [[run]] files table of the folder's case.toml, `case_text`), the checkpoints, the plots its
+// tools draw.
+bool talus_file_in(std::string_view folder, std::string_view name, const std::string& case_text) {
   name = without_temporary(name);
+  if (folder == "inputs") {
+    const std::string copy = "inputs/" + std::string(name);
+    return case_text.find("'" + copy + "'") != std::string::npos ||
+           case_text.find("\"" + copy + "\"") != std::string::npos;
+  }
   if (folder == "checkpoints") return numbered(name, "step_", ".ckpt");
   return name.ends_with(".png") || name.ends_with(".csv") || name.ends_with(".json");
 }
@@ -91,6 +98,15 @@ std::string holder(int fd) {
 std::vector<std::string> foreign_entries(const std::string& dir) {
   std::vector<std::string> out;
   std::error_code ec;
+  // The folder's case.toml names the input copies talus made (none if it has none, or if it is
+  // not a regular file of a case's size).
+  std::string case_text;
+  const std::string case_file = dir + "/case.toml";
+  if (fs::is_regular_file(fs::symlink_status(case_file, ec)) &&
+      fs::file_size(case_file, ec) < (std::uintmax_t{16} << 20)) {
+    std::ifstream in(case_file, std::ios::binary);
+    case_text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
     const fs::file_type type = e.symlink_status(ec).type();
@@ -99,7 +115,8 @@ std::vector<std::string> foreign_entries(const std::string& dir) {
         (name == "inputs" || name == "checkpoints" || name == "plots")) {
       for (const auto& f : fs::directory_iterator(e.path(), ec)) {
         const std::string inner = f.path().filename().string();
-        if (f.symlink_status(ec).type() != fs::file_type::regular || !talus_file_in(name, inner))
+        if (f.symlink_status(ec).type() != fs::file_type::regular ||
+            !talus_file_in(name, inner, case_text))
           out.push_back(name + "/" + inner);
       }
       continue;

@@ -214,6 +214,17 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim, const FrameTotals<D>& t
 }
 
 template <int D>
+std::vector<std::string> RunWriter<D>::missing_frames() const {
+  std::vector<std::string> missing;
+  for (const auto* list : {&frames_, &contact_frames_})
+    for (const auto& [t, name] : *list) {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(dir_ + "/" + name, ec)) missing.push_back(name);
+    }
+  return missing;
+}
+
+template <int D>
 void RunWriter<D>::write_tables(const Simulation<D>& sim) const {
   const Case& c = sim.case_();
   const int B = sim.num_bodies();

@@ -46,6 +46,10 @@ public:
   // drops any row a killed run wrote after its last checkpoint).
   void write_tables(const Simulation<D>& sim) const;
 
+  // The frames the tables list (particles and contact nodes) that are not in the run folder: a
+  // restart refuses to continue a folder whose earlier frames are gone.
+  std::vector<std::string> missing_frames() const;
+
   // The tables and frame list, for checkpoints.
   template <class Ar>
   void serialize(Ar& ar) {

@@ -87,6 +87,14 @@ public:
       agreed<CheckpointError>([&] {
         serialize(*restore);
         if (!restore->done()) throw CheckpointError(restored_from + ": trailing bytes");
+        // A frame the checkpoint lists that is gone would leave particles.pvd pointing at
+        // nothing in a run that says it completed.
+        if (writer_)
+          if (const auto gone = writer_->missing_frames(); !gone.empty())
+            throw CheckpointError(fmt::format(
+                "{}/{}: a frame the checkpoint lists is missing ({} of them); the run folder "
+                "cannot be continued whole: run the case again into a new folder",
+                opt_.out_dir, gone.front(), gone.size()));
       });
       if (writer_) writer_->write_tables(sim_);
       last_checkpoint_ = restored_from;

@@ -81,6 +81,31 @@ TEST(ParseCase, OverridesReplaceKeysByPathAndByName) {
   EXPECT_NE(c.text.find("material.0.density=2500"), std::string::npos); // in a [[run]] entry
 }
 
+// A key nested deeper than any case needs (a 100,000-deep dotted key crashed the TOML reader)
+// is refused at its line; dotted numbers in arrays and dots in strings do not count.
+TEST(ParseCase, ADeepDottedKeyIsRefusedAtItsLine) {
+  std::string deep = "\n[deep]\n";
+  for (int i = 0; i < 100000; ++i)
+    deep += "a.";
+  deep += "b = 1\n";
+  try {
+    test::case_from(good + deep);
+    FAIL() << "accepted";
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("a key nested 100001 tables deep"), std::string::npos)
+        << e.what();
+  }
+  std::string numbers = "\n[[probe]]\nname = \"far\"\nbody = \"block\"\nnear = [\n";
+  for (int i = 0; i < 40; ++i)
+    numbers += "0.5, "; // 40 dotted numbers on one line of a multi-line array
+  numbers += "\n]\n";
+  try {
+    test::case_from(good + numbers);
+  } catch (const CaseError& e) {
+    EXPECT_EQ(std::string(e.what()).find("tables deep"), std::string::npos) << e.what();
+  }
+}
+
 // An error in a value an override set names the override (--set), not a line of the file.
 TEST(ParseCase, AnOverridesErrorNamesTheOverride) {
   auto message = [](const std::string& set) {

@@ -365,6 +365,8 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
   edit("ten.asc", "typo.asc", "nrows", "nrowz");
   edit("ten.asc", "typo_first.asc", "ncols", "ncolls");
   edit("ten.asc", "short_header.asc", "ncols 10\nnrows 10\n", "ncols 5\nnrows 5\n");
+  edit("ten.asc", "twice.asc", "nrows 10\n", "nrows 10\nncols 10\n");
+  edit("ten.asc", "fraction.asc", "ncols 10\n", "ncols 10.5\n");
   write_asc(dir + "/high.asc", 40, 30, 0.0, 0.0, 1.0, flat(30.0));
   {
     // A float GeoTIFF with a NaN where the file declares no no-data value.
@@ -405,6 +407,12 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
   expect_refused(terrain(fmt::format("top = '{0}/short_header.asc', bottom = 2.0", dir)),
                  {"short_header.asc", "header says 5 x 5 cells (25 values)",
                   "holds 100 values after the header"});
+  expect_refused(terrain(fmt::format("top = '{0}/twice.asc', bottom = 2.0", dir)),
+                 {"twice.asc:3: 'ncols' is given twice"});
+  expect_refused(terrain(fmt::format("top = '{0}/fraction.asc', bottom = 2.0", dir)),
+                 {"fraction.asc:1: ncols '10.5' is not a whole number"});
+  expect_refused(terrain("top = \"\\u001b[31mtop.asc\", bottom = 2.0"),
+                 {"terrain.top", "holds a control character"});
   expect_refused(terrain(fmt::format("top = 30.0, bottom = '{0}/nan.tif'", dir)),
                  {"nan.tif", "row 1, column 0", "nan", "not an elevation"});
   expect_refused(terrain(fmt::format("top = 30.0, bottom = '{0}/one_cell.asc'", dir)),

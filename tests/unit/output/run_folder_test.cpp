@@ -78,7 +78,12 @@ TEST(RunFolder, OverwriteRemovesOnlyTalusFiles) {
                            "particles_000012.vtu", "summary.json.tmp", "energy.csv.tmp.3",
                            "inputs/wedge.csv", "checkpoints/step_0000000100.ckpt"})
     write(d / name, "x");
+  // The input copies are those the folder's case.toml names in its [[run]] files table.
+  write(d / "case.toml", "[[run]]\n[run.files]\n'wedge.csv' = 'inputs/wedge.csv'\n");
   EXPECT_TRUE(foreign_entries(dir).empty());
+  write(d / "inputs/mine.csv", "a user's file among the copies\n");
+  EXPECT_EQ(foreign_entries(dir), std::vector<std::string>{"inputs/mine.csv"});
+  fs::remove(d / "inputs/mine.csv");
   write(d / "notes.txt", "precious\n");
   write(d / "particles_final.vtu", "not a talus frame name\n");
   const auto foreign = foreign_entries(dir);
