@@ -155,6 +155,28 @@ check(p.returncode == 3 and "removed" in err,
       f"a run whose folder is deleted stops with exit 3 (got {p.returncode}): {err.strip()[-200:]}")
 check(not (gone / "summary.json").exists(), "no partial run folder is written in its place")
 
+# The run folder moved away and a user's folder put at its path: the run writes on into the
+# folder it took (held open), never into the user's, and stops with exit 3.
+taken = work / "taken"
+p = start(case, "--out", taken, *endless)
+wait_for(taken / "particles_000001.vtu", 60)
+taken.rename(work / "taken_moved")
+taken.mkdir()
+(taken / "notes.txt").write_text("mine\n")
+for _ in range(50):  # let the run write a few more frames
+    if p.poll() is not None:
+        break
+    time.sleep(0.1)
+try:
+    p.wait(timeout=120)
+except subprocess.TimeoutExpired:
+    p.kill()
+    p.wait()
+err = p.stderr.read()
+check(p.returncode == 3 and sorted(x.name for x in taken.iterdir()) == ["notes.txt"],
+      f"a folder put in a run folder's place receives nothing (exit {p.returncode}, holds "
+      f"{sorted(x.name for x in taken.iterdir())})")
+
 # A link planted at a temporary's name is not followed.
 planted = work / "planted"
 code, _ = run(case, "--out", planted, *short, "--max-steps", "10")

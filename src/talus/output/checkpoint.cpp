@@ -202,8 +202,7 @@ std::vector<std::string> list_checkpoints(const std::string& run_dir) {
 void prune_checkpoints(const std::string& run_dir, int keep) {
   const auto all = list_checkpoints(run_dir);
   for (std::size_t i = static_cast<std::size_t>(std::max(keep, 1)); i < all.size(); ++i) {
-    std::error_code ec;
-    std::filesystem::remove(all[i], ec);
+    remove_file(all[i]);
   }
 }
 

@@ -6,9 +6,54 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <fmt/format.h>
+#include <mutex>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace talus {
+
+namespace {
+
+std::mutex anchor_mutex;
+std::string anchored_dir;
+int anchored_fd = -1;
+
+// A path as the system calls take it: relative to the anchored folder if it lies under it.
+struct At {
+  int fd;
+  std::string name;
+};
+At at(const std::string& path) {
+  const std::lock_guard<std::mutex> lock(anchor_mutex);
+  const std::size_t n = anchored_dir.size();
+  if (anchored_fd >= 0 && path.size() > n + 1 && path.compare(0, n, anchored_dir) == 0 &&
+      path[n] == '/')
+    return {anchored_fd, path.substr(n + 1)};
+  return {AT_FDCWD, path};
+}
+
+int unlink_at(const std::string& path) {
+  const At a = at(path);
+  return ::unlinkat(a.fd, a.name.c_str(), 0);
+}
+
+} // namespace
+
+void anchor_folder(const std::string& dir, int dirfd) {
+  const std::lock_guard<std::mutex> lock(anchor_mutex);
+  anchored_dir = dirfd >= 0 ? dir : std::string();
+  anchored_fd = dirfd;
+}
+
+void remove_file(const std::string& path) {
+  unlink_at(path);
+}
+
+void make_folder(const std::string& path) {
+  const At a = at(path);
+  if (::mkdirat(a.fd, a.name.c_str(), 0755) != 0 && errno != EEXIST)
+    throw OutputError(fmt::format("{}: cannot create: {}", path, std::strerror(errno)));
+}
 
 void write_file_atomic(const std::string& path, std::string_view content) {
   write_file_atomic(path, {content});
@@ -25,7 +70,8 @@ std::string create_new_file(const std::string& path, int& fd, unsigned mode) {
   constexpr int tries = 100;
   for (int k = 0; k < tries; ++k) {
     const std::string name = k == 0 ? path : fmt::format("{}.{}", path, k);
-    fd = ::open(name.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, mode);
+    const At a = at(name);
+    fd = ::openat(a.fd, a.name.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, mode);
     if (fd >= 0) return name;
     if (errno != EEXIST) break;
   }
@@ -46,14 +92,14 @@ AtomicFile::AtomicFile(std::string path, unsigned mode) : path_(std::move(path))
 AtomicFile::~AtomicFile() {
   if (fd_ >= 0) {
     ::close(fd_);
-    ::unlink(tmp_.c_str());
+    unlink_at(tmp_);
   }
 }
 
 void AtomicFile::fail(const std::string& what) {
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
-  ::unlink(tmp_.c_str());
+  unlink_at(tmp_);
   throw OutputError(path_ + ": " + what);
 }
 
@@ -74,18 +120,19 @@ void AtomicFile::commit() {
   fd_ = -1;
   if (::close(fd) != 0) {
     const int err = errno;
-    ::unlink(tmp_.c_str());
+    unlink_at(tmp_);
     throw OutputError(fmt::format("{}: cannot flush: {}", path_, std::strerror(err)));
   }
-  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
+  const At from = at(tmp_), to = at(path_);
+  if (::renameat(from.fd, from.name.c_str(), to.fd, to.name.c_str()) != 0) {
     const int err = errno;
-    ::unlink(tmp_.c_str());
+    unlink_at(tmp_);
     throw OutputError(fmt::format("{}: cannot rename into place: {}", path_, std::strerror(err)));
   }
   // Make the rename itself durable: a crash after this leaves the new file, never none.
-  const auto slash = path_.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : path_.substr(0, slash + 1);
-  if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+  const auto slash = to.name.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : to.name.substr(0, slash + 1);
+  if (const int dfd = ::openat(to.fd, dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
     ::fsync(dfd);
     ::close(dfd);
   }

@@ -20,6 +20,16 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+// The run folder held open: every file operation below on a path under `dir` (dir + "/...")
+// goes through `dirfd`, into the folder the run took, even after that path was renamed, removed
+// or replaced by another folder (which then receives nothing). One folder at a time; -1 lets
+// it go.
+void anchor_folder(const std::string& dir, int dirfd);
+// Removes a file (never a folder, never through a link's target), quietly if it is not there.
+void remove_file(const std::string& path);
+// Creates the folder `path` if it is not there; throws OutputError naming it otherwise.
+void make_folder(const std::string& path);
+
 // Creates a new file for writing at `path` or, if that name is taken (a temporary left by a
 // killed run, or a link someone planted), at path.1, path.2, ...: exclusively, never through a
 // link. Returns the name used and sets fd; throws OutputError naming `path` if none can be made.

@@ -136,6 +136,8 @@ RunFolder::RunFolder(std::string dir, Use use) : dir_(std::move(dir)) {
   } catch (...) {
     if (marker_fd_ >= 0) ::close(marker_fd_);
     marker_fd_ = -1;
+    if (dir_fd_ >= 0) anchor_folder("", -1), ::close(dir_fd_);
+    dir_fd_ = -1;
     throw;
   }
 }
@@ -238,19 +240,27 @@ void RunFolder::take_marker(bool create) {
   if (::ftruncate(marker_fd_, 0) != 0 ||
       ::pwrite(marker_fd_, text.data(), text.size(), 0) != static_cast<ssize_t>(text.size()))
     throw OutputError(fmt::format("{}: cannot write: {}", marker, std::strerror(errno)));
+  // The folder held open: the run's writes go into it even if its path is later given to
+  // another folder (which receives nothing; check_still_here then stops the run).
+  dir_fd_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   struct stat d {};
-  ::stat(dir_.c_str(), &d);
+  if (dir_fd_ < 0 || ::fstat(dir_fd_, &d) != 0)
+    throw OutputError(
+        fmt::format("{}: cannot open the run folder: {}", dir_, std::strerror(errno)));
+  anchor_folder(dir_, dir_fd_);
   dev_ = d.st_dev, dir_ino_ = d.st_ino, marker_ino_ = m.st_ino;
 }
 
 RunFolder::RunFolder(RunFolder&& other) noexcept
-    : dir_(std::move(other.dir_)), marker_fd_(other.marker_fd_), dev_(other.dev_),
-      dir_ino_(other.dir_ino_), marker_ino_(other.marker_ino_) {
+    : dir_(std::move(other.dir_)), marker_fd_(other.marker_fd_), dir_fd_(other.dir_fd_),
+      dev_(other.dev_), dir_ino_(other.dir_ino_), marker_ino_(other.marker_ino_) {
   other.marker_fd_ = -1;
+  other.dir_fd_ = -1;
 }
 
 RunFolder::~RunFolder() {
   if (marker_fd_ >= 0) ::close(marker_fd_); // releases the lock
+  if (dir_fd_ >= 0) anchor_folder("", -1), ::close(dir_fd_);
 }
 
 void RunFolder::check_still_here() const {

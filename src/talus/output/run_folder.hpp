@@ -43,6 +43,7 @@ private:
   void take_marker(bool create); // opens (or creates) the marker and locks it
   std::string dir_;
   int marker_fd_ = -1;
+  int dir_fd_ = -1; // the folder held open: files.hpp's anchor_folder
   dev_t dev_ = 0;
   ino_t dir_ino_ = 0, marker_ino_ = 0;
 };

@@ -282,11 +282,7 @@ RunFolder prepare_run_inputs(const Case& c, const std::string& dir, bool overwri
     modes.push_back(::stat(f.source.c_str(), &st) == 0 ? st.st_mode & 07777u : 0644u);
   }
   RunFolder folder(dir, overwrite ? RunFolder::Use::overwrite : RunFolder::Use::fresh);
-  if (!c.inputs.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir + "/inputs", ec);
-    if (ec) throw OutputError(fmt::format("{}/inputs: cannot create: {}", dir, ec.message()));
-  }
+  if (!c.inputs.empty()) make_folder(dir + "/inputs");
   for (std::size_t i = 0; i < c.inputs.size(); ++i) {
     AtomicFile copy(dir + "/" + c.inputs[i].copy, modes[i]);
     copy.write(inputs[i]);

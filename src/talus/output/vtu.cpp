@@ -28,7 +28,7 @@ public:
   Appended() = default;
   explicit Appended(const std::string& scratch) : to_file_(true) {
     try {
-      ::unlink(create_new_file(scratch, fd_, 0600).c_str()); // nothing left behind
+      remove_file(create_new_file(scratch, fd_, 0600)); // nothing left behind
     } catch (const OutputError& e) {
       error_ = e.what();
     }

@@ -387,12 +387,8 @@ private:
         bytes = sizing.size();
         try {
           check_folder();
-          std::error_code ec;
-          std::filesystem::create_directories(opt_.out_dir + "/checkpoints", ec);
-          if (ec)
-            error = fmt::format("{}/checkpoints: cannot create: {}", opt_.out_dir, ec.message());
-          else
-            file.emplace(path, bytes);
+          make_folder(opt_.out_dir + "/checkpoints"); // in the folder the run took
+          file.emplace(path, bytes);
         } catch (const OutputError& e) {
           error = e.what();
         }
