@@ -2020,7 +2020,8 @@ def materialise(ctx, files):
                           else data)
             if mode is not None:
                 os.chmod(p, mode)
-        ctx.guard(p)
+        if p.name != ".talus-run":  # talus's own marker: a run or restart may rewrite it
+            ctx.guard(p)
 
 
 def run_folders(d, depth=3):
@@ -2072,7 +2073,7 @@ def check_run_folder(run):
     return problems
 
 
-def integrity(ctx, top_before, siblings_before):
+def integrity(ctx, top_before, siblings_before, refused=False):
     problems = []
     for p, before in ctx.guards.items():
         now = digest(p)
@@ -2085,8 +2086,9 @@ def integrity(ctx, top_before, siblings_before):
     siblings = set(os.listdir(ctx.work / "inputs")) - siblings_before - {ctx.d.name}
     if siblings:
         problems.append(f"written beside the input's folder: {sorted(siblings)[:5]}")
-    for run in run_folders(ctx.d):
-        problems += check_run_folder(run)
+    if not refused:  # a refused command wrote nothing: a folder's state is not its claim
+        for run in run_folders(ctx.d):
+            problems += check_run_folder(run)
     return "; ".join(problems)
 
 
@@ -2125,7 +2127,7 @@ def judge(inp, ctx, res, top_before, siblings_before):
         marker = next((m for m in CRASH_MARKERS if m in text), None)
         if marker:
             return "crash", f"'{marker}' in the output of {st.cmd[:120]}"
-    lost = integrity(ctx, top_before, siblings_before)
+    lost = integrity(ctx, top_before, siblings_before, refused=res.rc in (1, 2, 3))
     if lost:
         return "lost or mixed data", lost
     if inp.post:
