@@ -49,6 +49,16 @@ def start(*args):
                             stderr=subprocess.PIPE, text=True)
 
 
+def finish(p, seconds=120):
+    """Waits for a started run (killing it after `seconds`) and returns its stderr."""
+    try:
+        p.wait(timeout=seconds)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        p.wait()
+    return p.stderr.read()
+
+
 def wait_for(path, seconds=60):
     deadline = time.time() + seconds
     while time.time() < deadline and not path.exists():
@@ -145,12 +155,7 @@ for _ in range(100):
         break
     time.sleep(0.05)
 check(not gone.exists(), "the run folder could be removed")
-try:
-    p.wait(timeout=120)
-except subprocess.TimeoutExpired:
-    p.kill()
-    p.wait()
-err = p.stderr.read()
+err = finish(p)
 check(p.returncode == 3 and "removed" in err,
       f"a run whose folder is deleted stops with exit 3 (got {p.returncode}): {err.strip()[-200:]}")
 check(not (gone / "summary.json").exists(), "no partial run folder is written in its place")
@@ -167,12 +172,7 @@ for _ in range(50):  # let the run write a few more frames
     if p.poll() is not None:
         break
     time.sleep(0.1)
-try:
-    p.wait(timeout=120)
-except subprocess.TimeoutExpired:
-    p.kill()
-    p.wait()
-err = p.stderr.read()
+err = finish(p)
 check(p.returncode == 3 and sorted(x.name for x in taken.iterdir()) == ["notes.txt"],
       f"a folder put in a run folder's place receives nothing (exit {p.returncode}, holds "
       f"{sorted(x.name for x in taken.iterdir())})")
