@@ -263,6 +263,9 @@ def main():
     ap.add_argument("--threads", type=int, default=0)
     ap.add_argument("--update-docs", action="store_true",
                     help="write the table into docs/verification.md (between its markers)")
+    ap.add_argument("--also-shape", choices=["linear", "gimp", "bspline"],
+                    help="run every check again with this shape function (a column of the "
+                         "report; its misses do not fail the suite)")
     a = ap.parse_args()
     level = "full" if a.full else "quick"
     src = Path(a.source).resolve()
@@ -306,6 +309,21 @@ def main():
             print(f"{case.stem} {label}: exit {p.returncode}, {wall:.1f} s", flush=True)
             section["runs"].append({"overrides": list(base) + list(sets), "wall": wall,
                                     "exit": p.returncode})
+            alt, alt_failure = None, ""
+            if a.also_shape:  # the same run with the other shape function, beside it
+                alt_folder = out / "runs" / (folder.name + f"_{a.also_shape}")
+                alt_cmd = [a.talus, "run", str(case), "--out", str(alt_folder), "--overwrite"]
+                for s in list(base) + list(sets) + [f'grid.shape_function="{a.also_shape}"']:
+                    alt_cmd += ["--set", s]
+                if a.threads:
+                    alt_cmd += ["--threads", str(a.threads)]
+                q = subprocess.run(alt_cmd, capture_output=True, text=True,
+                                   stdin=subprocess.DEVNULL)
+                print(f"{case.stem} {label} ({a.also_shape}): exit {q.returncode}", flush=True)
+                if q.returncode == 0:
+                    alt = Run(alt_folder)
+                else:
+                    alt_failure = f"run failed: {q.stderr.strip().splitlines()[-1:]}"
             run = Run(folder)
             for c in group:
                 if p.returncode != 0:
@@ -318,6 +336,11 @@ def main():
                     r = evaluate(c, run)
                 r["case"] = case.stem
                 r["plot"] = None
+                if a.also_shape:
+                    s = evaluate(c, alt) if alt else {"measured": None, "error": alt_failure,
+                                                      "status": "ERROR"}
+                    r["alt"] = {"shape": a.also_shape, "measured": s["measured"],
+                                "error": s["error"], "status": s["status"]}
                 rows.append(r)
                 print(f"  {r['status']:>10}  {c['name']}: {r['measured']} (reference "
                       f"{r['reference']}, {r['error']})", flush=True)
@@ -349,13 +372,19 @@ def fmt(v):
 
 
 def table_md(rows):
-    lines = ["| case | check | t (s) | measured | reference | error | tolerance | status | source |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    alt = next((r["alt"]["shape"] for r in rows if "alt" in r), None)
+    extra = f" {alt}: measured | {alt}: error | {alt}: status |" if alt else ""
+    lines = ["| case | check | t (s) | measured | reference | error | tolerance | status | "
+             "source |" + extra, "|---|---|---|---|---|---|---|---|---|" +
+             ("---|---|---|" if alt else "")]
     for r in rows:
         status = r["status"] + (f" ({r['known_miss']})" if r["status"] == "known miss" else "")
-        lines.append("| " + " | ".join([r["case"], r["name"], fmt(r["time"]), fmt(r["measured"]),
-                                         fmt(r["reference"]), r["error"], r["tolerance"],
-                                         status, r["source"]]).replace("\n", " ") + " |")
+        cells = [r["case"], r["name"], fmt(r["time"]), fmt(r["measured"]), fmt(r["reference"]),
+                 r["error"], r["tolerance"], status, r["source"]]
+        if alt:
+            s = r.get("alt", {})
+            cells += [fmt(s.get("measured")), s.get("error", ""), s.get("status", "")]
+        lines.append("| " + " | ".join(cells).replace("\n", " ") + " |")
     return "\n".join(lines)
 
 
@@ -364,6 +393,12 @@ def write_reports(out, rows, sections, level, elapsed):
     head = (f"Talus verification ({level}): {len(rows)} checks, {n_pass} pass, "
             f"{sum(r['status'] == 'known miss' for r in rows)} known misses, "
             f"{sum(r['status'] in ('FAIL', 'ERROR') for r in rows)} fail; {elapsed:.0f} s")
+    alts = [r["alt"] for r in rows if "alt" in r]
+    if alts:
+        head += (f"; with {alts[0]['shape']}: "
+                 f"{sum(s['status'] == 'pass' for s in alts)} pass, "
+                 f"{sum(s['status'] == 'known miss' for s in alts)} known misses, "
+                 f"{sum(s['status'] in ('FAIL', 'ERROR') for s in alts)} fail")
     md = [f"# {head}", "", table_md(rows), ""]
     for s in sections:
         md.append(f"## {s['case']}: {s['title']}")
@@ -380,12 +415,16 @@ def write_reports(out, rows, sections, level, elapsed):
         cells = [r["case"], r["name"], fmt(r["time"]), fmt(r["measured"]), fmt(r["reference"]),
                  r["error"], r["tolerance"],
                  r["status"] + (f": {r['known_miss']}" if r["known_miss"] else ""), r["source"]]
+        if "alt" in r:
+            cells += [fmt(r["alt"]["measured"]), r["alt"]["error"], r["alt"]["status"]]
         trs.append(f'<tr class="check" style="background:{colour[r["status"]]}">' +
                    "".join(f"<td>{html.escape(c)}</td>" for c in cells) + "</tr>")
     body = [f"<h1>{html.escape(head)}</h1>",
             '<table id="checks"><thead><tr><th>case</th><th>check</th><th>t (s)</th>'
             "<th>measured</th><th>reference</th><th>error</th><th>tolerance</th><th>status</th>"
-            "<th>source</th></tr></thead><tbody>", *trs, "</tbody></table>"]
+            "<th>source</th>" + "".join(f"<th>{html.escape(alts[0]['shape'])}: {h}</th>"
+                                        for h in ("measured", "error", "status") if alts) +
+            "</tr></thead><tbody>", *trs, "</tbody></table>"]
     for s in sections:
         body.append(f"<h2>{html.escape(s['case'])}: {html.escape(s['title'])}</h2>")
         body += [f'<img src="{html.escape(p)}" alt="{html.escape(s["case"])}">'

@@ -32,6 +32,13 @@ const std::vector<Problem>& problems() {
         "interface.0.cohesion.slip=0.02"},
        200},
       {"vaiont_3d", "cases/vaiont/rigid_boundary_3d.toml", {"initial_state.settle_time=0"}, 100},
+      // The quadratic B-spline's cost: the column and the Vaiont as above with it.
+      {"column_bspline", "bench/column.toml", {"grid.shape_function=\"bspline\""}, 300},
+      {"vaiont_bspline",
+       "cases/vaiont/three_bodies.toml",
+       {"grid.cell_size=4", "initial_state.settle_time=0", "interface.0.friction.slip=0.02",
+        "interface.0.cohesion.slip=0.02", "grid.shape_function=\"bspline\""},
+       200},
   };
   return all;
 }

@@ -181,7 +181,8 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   bench
       ->add_option("--problems", bench_opt.problems,
-                   "column, column_4x, vaiont, vaiont_3d (default: column column_4x vaiont)")
+                   "column, column_4x, vaiont, vaiont_3d, column_bspline, vaiont_bspline "
+                   "(default: column column_4x vaiont)")
       ->check(CLI::IsMember(talus::bench_problem_names()))
       ->delimiter(',');
   bench->add_option("--json", bench_opt.json_out, "also write the figures as JSON here")
@@ -199,7 +200,7 @@ int main(int argc, char** argv) {
   // verify: the suite lives in tools/verify.py (it drives this program and plots with
   // matplotlib); this subcommand hands over to it.
   std::vector<std::string> verify_cases;
-  std::string verify_out = "verification", source_dir = TALUS_SOURCE_DIR;
+  std::string verify_out = "verification", source_dir = TALUS_SOURCE_DIR, also_shape;
   bool verify_full = false, verify_quick = false, update_docs = false;
   auto* verify = app.add_subcommand(
       "verify", "run every benchmark against its reference and write DIR/report.html");
@@ -210,6 +211,10 @@ int main(int argc, char** argv) {
   verify->add_option("--source", source_dir, "the Talus source folder");
   verify->add_option("--threads", threads, "OpenMP threads per run")->check(CLI::Range(1, 1024));
   verify->add_flag("--update-docs", update_docs, "write the table into docs/verification.md");
+  verify
+      ->add_option("--also-shape", also_shape,
+                   "run every check again with this shape function: a column of the report")
+      ->check(CLI::IsMember({"linear", "gimp", "bspline"}));
 
   // Command-line errors exit with status 2, as case-file errors do (help and version: 0).
   try {
@@ -247,6 +252,7 @@ int main(int argc, char** argv) {
                                      verify_full ? "--full" : "--quick"};
     if (threads > 0) args.insert(args.end(), {"--threads", std::to_string(threads)});
     if (update_docs) args.emplace_back("--update-docs");
+    if (!also_shape.empty()) args.insert(args.end(), {"--also-shape", also_shape});
     if (!verify_cases.empty()) {
       args.emplace_back("--cases");
       args.insert(args.end(), verify_cases.begin(), verify_cases.end());

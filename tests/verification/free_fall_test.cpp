@@ -60,13 +60,14 @@ box = {{ min = {}, max = {} }}
 
 TEST(FreeFall, TwoDimensions) {
   for (const char* scheme : {"usf", "usl", "musl"})
-    for (const char* shape : {"linear", "gimp"})
+    for (const char* shape : {"linear", "gimp", "bspline"})
       check_free_fall<2>(scheme, shape);
 }
 
 TEST(FreeFall, ThreeDimensions) {
   for (const char* scheme : {"usl", "musl"})
-    check_free_fall<3>(scheme, "gimp");
+    for (const char* shape : {"gimp", "bspline"})
+      check_free_fall<3>(scheme, shape);
 }
 
 } // namespace

@@ -71,8 +71,10 @@ GridSettings read_grid(TableReader& r, int dim) {
     r.fail("cell_size", fmt::format("{:.3g} grid nodes need about {:.3g} GB, more than this "
                                     "machine's {:.3g} GB: use larger cells",
                                     nodes, need / 1e9, machine_memory() / 1e9));
-  g.shape = r.choice("shape_function", {"linear", "gimp"}, "gimp") == "linear" ? ShapeKind::linear
-                                                                               : ShapeKind::gimp;
+  const std::string shape = r.choice("shape_function", {"linear", "gimp", "bspline"}, "gimp");
+  g.shape = shape == "linear" ? ShapeKind::linear
+            : shape == "gimp" ? ShapeKind::gimp
+                              : ShapeKind::bspline;
   g.faces.fill(FaceCondition::free);
   if (const toml::table* t = r.table("boundary")) {
     TableReader b(*t, r.key_path("boundary"), r.where());

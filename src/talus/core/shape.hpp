@@ -9,9 +9,10 @@
 
 namespace talus {
 
-enum class ShapeKind { linear, gimp };
+enum class ShapeKind { linear, gimp, bspline };
 
-// Up to 3 nodes per direction (GIMP); linear uses 2. GIMP's support holds 3 nodes in a
+// Up to 3 nodes per direction (GIMP, B-spline); linear uses 2, and a B-spline 2 at a face of the
+// grid (its node beyond the face folded into the face's). GIMP's support holds 3 nodes in a
 // direction only while the particle's domain (half-width lp) straddles a node line; otherwise
 // the third node's weight is exactly zero and the record keeps 2 (k[d]), so the transfers visit
 // the nodes with weight and no others (with lp = h/4: 2.5 x 2.5 of the 3 x 3 nodes on average in
@@ -62,6 +63,33 @@ inline void gimp_1d(double r, double h, double lp, double& w, double& dw) {
   gimp_1d(r, GimpFactors(h, lp), w, dw);
 }
 
+// The quadratic B-spline in direction d (Steffen, Kirby & Berzins 2008) at xi = (x - origin) / h:
+// the nodes base, base + 1, base + 2 with base = floor(xi - 1/2) and s = xi - base in [1/2, 3/2),
+//   N_0 = (3/2 - s)^2 / 2,  N_1 = 3/4 - (s - 1)^2,  N_2 = (s - 1/2)^2 / 2,
+// C1 across cell faces, summing to 1 with sum N_i x_i = x (linear fields reproduced). At a face
+// of the grid the node beyond it is folded into the face node (N_face + N_beyond, and likewise
+// the derivatives), so the weights still sum to 1 and their gradients to 0 there: the face node
+// carries what a wall at the face holds.
+template <int D>
+inline void bspline_1d(ShapeWeights<D>& sw, int d, double xi, std::int64_t nodes, double inv_h) {
+  const auto base = static_cast<std::int64_t>(std::floor(xi - 0.5));
+  const double s = xi - static_cast<double>(base);
+  double* w = sw.w[d];
+  double* dw = sw.dw[d];
+  w[0] = 0.5 * (1.5 - s) * (1.5 - s), dw[0] = (s - 1.5) * inv_h;
+  w[1] = 0.75 - (s - 1.0) * (s - 1.0), dw[1] = -2.0 * (s - 1.0) * inv_h;
+  w[2] = 0.5 * (s - 0.5) * (s - 0.5), dw[2] = (s - 0.5) * inv_h;
+  sw.base[d] = base, sw.k[d] = 3;
+  if (base < 0) { // node -1 lies beyond the lower face: fold it into node 0
+    w[0] += w[1], dw[0] += dw[1];
+    w[1] = w[2], dw[1] = dw[2];
+    sw.base[d] = 0, sw.k[d] = 2;
+  } else if (base + 2 >= nodes) { // node `nodes` lies beyond the upper face
+    w[1] += w[2], dw[1] += dw[2];
+    sw.k[d] = 2;
+  }
+}
+
 // Weights of the particle at x, with the GIMP factors of its half-width lp (GimpFactors(h, lp);
 // ignored for linear, except their 1/h). Nodes outside the grid get zero weight (their index is
 // clamped so the kernel loops never read out of range). The factors are the same for every
@@ -87,6 +115,11 @@ inline void evaluate_shape(ShapeWeights<D>& sw, const Grid<D>& grid, ShapeKind k
         sw.dw[d][a] = dw;
       }
     }
+    return;
+  }
+  if (kind == ShapeKind::bspline) {
+    for (int d = 0; d < D; ++d)
+      bspline_1d(sw, d, (x[d] - grid.origin[d]) * inv_h, grid.nodes[d], inv_h);
     return;
   }
   for (int d = 0; d < D; ++d) {

@@ -1,5 +1,6 @@
 // Shape functions: partition of unity, gradients summing to zero, and exact reproduction of a
-// linear field and its gradient, for linear and GIMP kernels in 2D and 3D.
+// linear field and its gradient, for linear, GIMP and quadratic B-spline kernels in 2D and 3D;
+// the B-spline's pieces, its continuity, and its folded faces.
 #include "talus/core/shape.hpp"
 
 #include <gtest/gtest.h>
@@ -26,7 +27,7 @@ TYPED_TEST(ShapeTest, PartitionOfUnityAndLinearReproduction) {
   std::uniform_real_distribution<double> u(-0.4, 2.4); // away from the grid's edge
   const Vec<D> a = Vec<D>::LinSpaced(0.3, 1.7);        // linear field f(x) = c + a.x
   const double c = 0.25;
-  for (ShapeKind kind : {ShapeKind::linear, ShapeKind::gimp}) {
+  for (ShapeKind kind : {ShapeKind::linear, ShapeKind::gimp, ShapeKind::bspline}) {
     for (double lp : {0.125, 0.25 / 3.0, 0.0625}) {
       for (int trial = 0; trial < 200; ++trial) {
         Vec<D> x;
@@ -68,6 +69,70 @@ TEST(Gimp1D, MatchesTheClosedFormPieces) {
   gimp_1d(-1.0, h, lp, w, dw); // tail: (h + lp - |r|)^2 / (4 h lp)
   EXPECT_DOUBLE_EQ(w, lp * lp / (4.0 * h * lp));
   EXPECT_DOUBLE_EQ(dw, lp / (2.0 * h * lp));
+}
+
+// The B-spline's three pieces at s = xi - floor(xi - 1/2): at a node (s = 1) 1/8, 3/4, 1/8 with
+// slopes -1/2, 0, 1/2 per h; midway between nodes (s = 1/2) 1/2, 1/2, 0.
+TEST(BSpline1D, MatchesTheClosedFormPieces) {
+  ShapeWeights<1> sw;
+  const double h = 0.5, inv_h = 1.0 / h;
+  bspline_1d(sw, 0, 4.0, 100, inv_h); // on node 4: base 3
+  EXPECT_EQ(sw.base[0], 3);
+  EXPECT_DOUBLE_EQ(sw.w[0][0], 0.125);
+  EXPECT_DOUBLE_EQ(sw.w[0][1], 0.75);
+  EXPECT_DOUBLE_EQ(sw.w[0][2], 0.125);
+  EXPECT_DOUBLE_EQ(sw.dw[0][0], -0.5 * inv_h);
+  EXPECT_DOUBLE_EQ(sw.dw[0][1], 0.0);
+  EXPECT_DOUBLE_EQ(sw.dw[0][2], 0.5 * inv_h);
+  bspline_1d(sw, 0, 4.5, 100, inv_h); // midway: base 4
+  EXPECT_EQ(sw.base[0], 4);
+  EXPECT_DOUBLE_EQ(sw.w[0][0], 0.5);
+  EXPECT_DOUBLE_EQ(sw.w[0][1], 0.5);
+  EXPECT_DOUBLE_EQ(sw.w[0][2], 0.0);
+}
+
+// C1: each node's weight and its slope are continuous where the support shifts by a node
+// (xi = k + 1/2), from either side.
+TEST(BSpline1D, WeightsAndSlopesAreContinuous) {
+  const double eps = 1e-9;
+  for (const double at : {3.5, 4.5, 7.5}) {
+    ShapeWeights<1> lo, hi;
+    bspline_1d(lo, 0, at - eps, 100, 1.0);
+    bspline_1d(hi, 0, at + eps, 100, 1.0);
+    ASSERT_EQ(hi.base[0], lo.base[0] + 1);
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t node = lo.base[0] + a;
+      const int b = static_cast<int>(node - hi.base[0]); // the same node in hi's record
+      const double w_hi = b >= 0 ? hi.w[0][b] : 0.0, dw_hi = b >= 0 ? hi.dw[0][b] : 0.0;
+      EXPECT_NEAR(lo.w[0][a], w_hi, 1e-8) << "node " << node;
+      EXPECT_NEAR(lo.dw[0][a], dw_hi, 1e-8) << "node " << node;
+    }
+  }
+}
+
+// At the grid's faces the node beyond is folded into the face node: still a partition of unity
+// with gradients summing to zero, every node inside the grid, and only 2 nodes in that direction.
+TYPED_TEST(ShapeTest, BSplineKeepsAPartitionOfUnityAtTheGridsFaces) {
+  constexpr int D = TypeParam::value;
+  const Grid<D> grid = test_grid<D>();
+  for (const double offset : {0.0, 0.05, 0.2, 0.2499}) {
+    for (const bool upper : {false, true}) {
+      const Vec<D> x = upper ? Vec<D>(grid.origin + Vec<D>::Constant(4.0 - offset))
+                             : Vec<D>(grid.origin + Vec<D>::Constant(offset));
+      const ShapeWeights<D> sw = evaluate_shape(grid, ShapeKind::bspline, 0.0, x);
+      double sum = 0.0;
+      Vec<D> grad = Vec<D>::Zero();
+      for_each_node(grid, sw, [&](std::int64_t I, double N, const Vec<D>& g) {
+        EXPECT_GE(I, 0);
+        EXPECT_LT(I, grid.num_nodes());
+        sum += N, grad += g;
+      });
+      EXPECT_NEAR(sum, 1.0, 1e-14) << "offset " << offset << (upper ? " upper" : " lower");
+      EXPECT_LT(grad.norm(), 1e-12);
+      for (int d = 0; d < D; ++d)
+        EXPECT_EQ(sw.k[d], 2);
+    }
+  }
 }
 
 TYPED_TEST(ShapeTest, NodesOutsideTheGridGetNoWeight) {

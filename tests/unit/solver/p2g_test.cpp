@@ -18,7 +18,7 @@ TYPED_TEST_SUITE(P2G, test::Dims);
 
 TYPED_TEST(P2G, ScatterConservesMassAndMomentum) {
   constexpr int D = TypeParam::value;
-  for (const char* shape : {"linear", "gimp"}) {
+  for (const char* shape : {"linear", "gimp", "bspline"}) {
     Simulation<D> sim(test::case_from(block_case<D>(shape, "usl", 1.0)));
     randomise(sim.particles_mut(), 3);
     sim.bin_particles_by_slab();

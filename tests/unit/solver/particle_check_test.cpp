@@ -21,7 +21,7 @@ using test::randomise;
 // one step of 1 ms at 2 km/s) at the end of that step, before output or a checkpoint reads it.
 TEST(BadState, StopsWithTheStepThatMadeIt) {
   for (const char* scheme : {"usf", "usl", "musl"})
-    for (const char* shape : {"linear", "gimp"}) {
+    for (const char* shape : {"linear", "gimp", "bspline"}) {
       const std::string text = block_case<2>(shape, scheme, 1.0);
       const std::vector<std::string> fixed_dt{"simulation.dt=1e-3"};
       auto message = [&](auto&& spoil) {
