@@ -245,6 +245,17 @@ def plot(case_name, label, run, checks, path):
     return path
 
 
+def talus_run(a, case, folder, overrides):
+    """`talus run` of the case into folder with the overrides (--overwrite: talus empties its
+    own earlier run folder, and refuses any other)."""
+    cmd = [a.talus, "run", str(case), "--out", str(folder), "--overwrite"]
+    for s in overrides:
+        cmd += ["--set", s]
+    if a.threads:
+        cmd += ["--threads", str(a.threads)]
+    return subprocess.run(cmd, capture_output=True, text=True, stdin=subprocess.DEVNULL)
+
+
 def usage_error(message):
     """A bad command line: one line on stderr, exit status 2 (as talus's own errors)."""
     print(f"error: verify: {message}", file=sys.stderr)
@@ -297,14 +308,8 @@ def main():
         for k, (sets, group) in enumerate(groups.items()):
             label = ", ".join(sets)
             folder = out / "runs" / (case.stem + (f"_{k}" if len(groups) > 1 else ""))
-            # --overwrite: talus empties its own earlier run folder, and refuses any other.
-            cmd = [a.talus, "run", str(case), "--out", str(folder), "--overwrite"]
-            for s in list(base) + list(sets):
-                cmd += ["--set", s]
-            if a.threads:
-                cmd += ["--threads", str(a.threads)]
             t0 = time.time()
-            p = subprocess.run(cmd, capture_output=True, text=True, stdin=subprocess.DEVNULL)
+            p = talus_run(a, case, folder, list(base) + list(sets))
             wall = time.time() - t0
             print(f"{case.stem} {label}: exit {p.returncode}, {wall:.1f} s", flush=True)
             section["runs"].append({"overrides": list(base) + list(sets), "wall": wall,
@@ -312,13 +317,8 @@ def main():
             alt, alt_failure = None, ""
             if a.also_shape:  # the same run with the other shape function, beside it
                 alt_folder = out / "runs" / (folder.name + f"_{a.also_shape}")
-                alt_cmd = [a.talus, "run", str(case), "--out", str(alt_folder), "--overwrite"]
-                for s in list(base) + list(sets) + [f'grid.shape_function="{a.also_shape}"']:
-                    alt_cmd += ["--set", s]
-                if a.threads:
-                    alt_cmd += ["--threads", str(a.threads)]
-                q = subprocess.run(alt_cmd, capture_output=True, text=True,
-                                   stdin=subprocess.DEVNULL)
+                q = talus_run(a, case, alt_folder, list(base) + list(sets) +
+                              [f'grid.shape_function="{a.also_shape}"'])
                 print(f"{case.stem} {label} ({a.also_shape}): exit {q.returncode}", flush=True)
                 if q.returncode == 0:
                     alt = Run(alt_folder)
