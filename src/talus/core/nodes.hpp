@@ -35,11 +35,14 @@ struct BodyField {
   // interface of the body, at [node * slots + slot]: a node near two of a body's interfaces
   // (a thin body, a junction) keeps each interface's bond and slip apart.
   std::vector<double> cohesion, tension, friction_area, area, slip_rate, slip_weight;
-  // With excess pore pressure on an interface: sum N A^p min(p^p / sigma_n^p, 1), and the
-  // contact's normal force per unit of the body's interface area (Pa), shared out as the
-  // particles' normal stress; with thermal pressurization the frictional work of the step per
-  // unit interface area (J/m^2), shared out as heat.
-  std::vector<double> pore_ratio, normal_stress, heat;
+  // With excess pore pressure on an interface: the pore pressure's force (N, per unit thickness
+  // in 2D) on the nodes where the pair meets, which pushes the bodies apart
+  // (Simulation::scatter_pore_force); sum N A^p (1 - r^p), r^p = min(p^p / sigma_n^p, 1), which
+  // shares the frictional heat out; and the contact's (effective) normal force per unit of the
+  // body's interface area (Pa), shared out as the particles' normal stress; with thermal
+  // pressurization the frictional work of the step per unit of that weight (J/m^2), shared out
+  // as heat.
+  std::vector<double> pore_force, heat_weight, normal_stress, heat;
   int slots = 0; // the body's interfaces
 
   // Which of the optional arrays the run uses: contact (grad_m, mx: two or more bodies),
@@ -81,7 +84,7 @@ struct BodyField {
       for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate, &slip_weight})
         a->assign(n * static_cast<std::size_t>(slots), 0.0);
     if (needs.interfaces && needs.pressure)
-      for (auto* a : {&pore_ratio, &normal_stress})
+      for (auto* a : {&pore_force, &heat_weight, &normal_stress})
         a->assign(n * static_cast<std::size_t>(slots), 0.0);
     if (needs.interfaces && needs.heating) heat.assign(n * static_cast<std::size_t>(slots), 0.0);
   }

@@ -19,7 +19,7 @@ public:
   explicit BasicPoreRecord(T* at) : at_(at) {}
   T& temperature_rise() const { return at_[0]; } // band-mean temperature rise (K)
   T& pressure_rise() const { return at_[1]; }    // band-mean pore-pressure rise (Pa)
-  T& normal_stress() const { return at_[2]; }    // compressive normal stress, last step (Pa)
+  T& normal_stress() const { return at_[2]; }    // compressive normal stress, recent steps (Pa)
   T* band() const { return at_ + header; }       // the band's profiles (BandGrid's state)
 
 private:

@@ -41,9 +41,15 @@ double BandGrid::heat(const double* state) const {
 }
 
 // Finite volumes: dy_i (x_i' - x_i) = dt alpha [(x_{i+1}' - x_i') / gap_i - (x_i' - x_{i-1}') /
-// gap_{i-1}] with no flux through the middle and x = 0 beyond the far face; rhs holds
-// dy_i x_i + sources on entry. Thomas algorithm (the matrix is diagonally dominant).
-void BandGrid::solve(double* x, double* c, double alpha, double dt) const {
+// gap_{i-1}] with no flux through the middle (or, held at `middle`, the flux
+// dt alpha (middle - x_0') / (dy_0 / 2) into the first cell) and x = 0 beyond the far face; rhs
+// holds dy_i x_i + sources on entry. Thomas algorithm (the matrix is diagonally dominant).
+void BandGrid::solve(double* x, double* c, double alpha, double dt, double middle) const {
+  double held = 0.0; // the drained middle's coefficient on the first cell, dt alpha / (dy_0 / 2)
+  if (!std::isnan(middle) && alpha > 0.0) {
+    held = alpha * dt / (0.5 * dy_[0]);
+    x[0] += held * middle;
+  }
   const std::size_t n = dy_.size();
   if (alpha == 0.0) { // no coupling: the diagonal alone
     for (std::size_t i = 0; i < n; ++i)
@@ -55,7 +61,7 @@ void BandGrid::solve(double* x, double* c, double alpha, double dt) const {
   for (std::size_t i = 0; i < n; ++i) {
     const double lower = i > 0 ? -k / gap_[i - 1] : 0.0;
     const double upper = i + 1 < n ? -k / gap_[i] : 0.0;
-    const double diag = dy_[i] + k / gap_[i] + (i > 0 ? k / gap_[i - 1] : 0.0);
+    const double diag = dy_[i] + k / gap_[i] + (i > 0 ? k / gap_[i - 1] : held);
     const double denom = diag - lower * prev_c;
     c[i] = upper / denom;
     x[i] = (x[i] - lower * prev_x) / denom;
@@ -65,7 +71,7 @@ void BandGrid::solve(double* x, double* c, double alpha, double dt) const {
     x[i] -= c[i] * x[i + 1];
 }
 
-void BandGrid::step(double* state, double work, double dt) const {
+void BandGrid::step(double* state, double work, double dt, double ceiling) const {
   const std::size_t n = dy_.size();
   double* T = state;
   double* p = state + n;
@@ -77,10 +83,18 @@ void BandGrid::step(double* state, double work, double dt) const {
   solve(rhs, c, props_.thermal_diffusivity, dt);
   for (std::size_t i = 0; i < n; ++i)
     dT[i] = rhs[i] - T[i], T[i] = rhs[i];
-  // Pore pressure: the temperature rise drives it (Lambda dT), diffusion drains it.
+  // Pore pressure: the temperature rise drives it (Lambda dT), diffusion drains it; where that
+  // takes the middle above the ceiling the band is open and the step is taken again with the
+  // middle held at it.
+  double drive[max_cells];
   for (std::size_t i = 0; i < n; ++i)
-    rhs[i] = dy_[i] * (p[i] + props_.lambda * dT[i]);
+    rhs[i] = drive[i] = dy_[i] * (p[i] + props_.lambda * dT[i]);
   solve(rhs, c, props_.hydraulic_diffusivity, dt);
+  const double held = std::max(ceiling, 0.0);
+  if (rhs[0] > held && props_.hydraulic_diffusivity > 0.0) {
+    std::copy(drive, drive + n, rhs);
+    solve(rhs, c, props_.hydraulic_diffusivity, dt, held);
+  }
   for (std::size_t i = 0; i < n; ++i)
     p[i] = rhs[i];
 }

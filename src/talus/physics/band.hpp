@@ -9,9 +9,18 @@
 // stepped with backward Euler (stable at any dt), zero flux at the middle, T = p = 0 (the
 // ambient values) at the far face. With both diffusivities zero it is the undrained, adiabatic
 // band: T = W / (rho c h), p = Lambda T for a work W per unit area.
+//
+// Unloading: a band whose pore pressure exceeds the normal stress across it opens along its
+// middle (sigma_n' < 0: the grains part, a hydraulic fracture), and the opening, filled with
+// water that carries the normal stress, holds p = sigma_n there. The band then drains into it:
+// the middle becomes a drained boundary, p(0, t) = sigma_n - p_ambient (a `ceiling` on the
+// rise), so the excess decays at the band's own hydraulic diffusion rate,
+// erf-like over a time (h / 2)^2 / alpha_hy, and not at all in an undrained band
+// (alpha_hy = 0). Loading is Rice's: at or below sigma_n the middle has no flux.
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace talus {
@@ -40,7 +49,11 @@ public:
   double extent() const { return face_.back(); }
 
   // Advances one particle's state by dt with the frictional work `work` (J/m^2) done over dt.
-  void step(double* state, double work, double dt) const;
+  // `ceiling`: the largest pore-pressure rise the middle holds (the normal stress across the
+  // band less the ambient pore pressure, at least 0); where the step would take the middle above
+  // it the band is open there and drains into the opening (see above).
+  void step(double* state, double work, double dt,
+            double ceiling = std::numeric_limits<double>::infinity()) const;
 
   // Band means (over |y| < h / 2) of the temperature and pore pressure rises.
   double mean_temperature(const double* state) const { return band_mean(state); }
@@ -51,8 +64,10 @@ public:
 private:
   double band_mean(const double* v) const;
   // Solves (dy_i - dt alpha L) x = rhs in place (the tridiagonal system of one diffusion step);
-  // c: workspace of cells() numbers.
-  void solve(double* x, double* c, double alpha, double dt) const;
+  // c: workspace of cells() numbers. `middle`: NaN for no flux through the middle, else the
+  // value held there (a drained boundary half a cell from the first centre).
+  void solve(double* x, double* c, double alpha, double dt,
+             double middle = std::numeric_limits<double>::quiet_NaN()) const;
 
   BandProperties props_;
   int band_cells_;

@@ -31,9 +31,6 @@ struct ContactNode {
   // at the node; zero where the pair is purely frictional. The interface's friction is in mu.
   double cohesion[max_bodies_at_node]{};
   double tension[max_bodies_at_node]{};
-  // An interface's excess pore pressure as a share of its normal stress at the node, the mean
-  // of min(p / sigma_n, 1) over its interface particles' area: friction acts on sigma_n - p.
-  double pore_ratio[max_bodies_at_node]{};
   // Outputs: outward normal used, and the tangential impulse split into its frictional and
   // cohesive parts and the normal impulse (N s) applied to each body.
   Vec<D> normal[max_bodies_at_node];
@@ -56,6 +53,38 @@ struct ContactLaw {
   double gap_cutoff = 0.8;
   double cell_size = 1.0;
 };
+
+// The contact normal at the node, outward from body k, unnormalised (zero: none). A rigid body's
+// exact geometric normal if known. Two bodies: the mass gradient of the master body (the larger
+// rank, i.e. the body with more total mass, as Huang et al. 2011's master-slave choice), which
+// keeps the normals collinear and is not fooled by the corners of the smaller body. Three or
+// more: own gradient minus the others'. `rigid`: the heaviest rigid body here (-1: none); G: the
+// sum of the bodies' mass gradients.
+template <int D>
+Vec<D> contact_direction(const ContactNode<D>& node, int k, int rigid, const Vec<D>& G) {
+  const int n = node.n;
+  const int master = rigid >= 0 ? rigid : (n == 2 ? (node.rank[0] > node.rank[1] ? 0 : 1) : -1);
+  if (master >= 0 && !node.surface_normal[master].isZero())
+    return master == k ? node.surface_normal[k] : Vec<D>(-node.surface_normal[master]);
+  if (n == 2) {
+    const int j = 1 - k;
+    const bool own = rigid < 0 ? node.rank[k] > node.rank[j] : false;
+    return own ? node.grad_m[k] : Vec<D>(-node.grad_m[j]);
+  }
+  return 2.0 * node.grad_m[k] - G;
+}
+
+// The same, finding the heaviest rigid body and the gradients' sum itself.
+template <int D>
+Vec<D> contact_direction(const ContactNode<D>& node, int k) {
+  int rigid = -1;
+  Vec<D> G = Vec<D>::Zero();
+  for (int j = 0; j < node.n; ++j) {
+    G += node.grad_m[j];
+    if (node.rigid[j] && (rigid < 0 || node.m[j] > node.m[rigid])) rigid = j;
+  }
+  return contact_direction(node, k, rigid, G);
+}
 
 // Resolves contact at a node: impenetrability (eq. 32-34) and Coulomb friction (eq. 35-36)
 // against the centre-of-mass velocity (normals: see below). Rigid bodies have infinite mass: the
@@ -86,22 +115,7 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
     node.friction_impulse[k] = node.cohesion_impulse[k] = node.normal_impulse[k] = 0.0;
     node.closed[k] = node.opened[k] = false;
     if (node.rigid[k]) continue;
-    // The contact normal, outward from body k. A rigid body's exact geometric normal if known.
-    // Two bodies: the mass gradient of the master body (the larger rank, i.e. the body with more
-    // total mass, as Huang et al. 2011's master-slave choice), which keeps the normals collinear
-    // and is not fooled by the corners of the smaller body. Three or more: own gradient minus
-    // the others'.
-    Vec<D> g;
-    const int master = rigid >= 0 ? rigid : (n == 2 ? (node.rank[0] > node.rank[1] ? 0 : 1) : -1);
-    if (master >= 0 && !node.surface_normal[master].isZero()) {
-      g = master == k ? node.surface_normal[k] : Vec<D>(-node.surface_normal[master]);
-    } else if (n == 2) {
-      const int j = 1 - k;
-      const bool own = rigid < 0 ? node.rank[k] > node.rank[j] : false;
-      g = own ? node.grad_m[k] : Vec<D>(-node.grad_m[j]);
-    } else {
-      g = 2.0 * node.grad_m[k] - G;
-    }
+    const Vec<D> g = contact_direction(node, k, rigid, G);
     const double g_norm = g.norm();
     if (g_norm <= 0.0) continue;
     const Vec<D> normal = g / g_norm;
@@ -128,10 +142,10 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
     const Vec<D> dv_t = dv - dn * normal;
     const double t = dv_t.norm();
     // Tangential: friction mu * (normal approach) plus the cohesive capacity (eq. 35-37); stick
-    // if that stops the slip, else slide with the full resistance. An excess pore pressure takes
-    // its share off the normal force: mu F_n (1 - p / sigma_n) = mu (sigma_n - p) A.
-    const double effective = node.pore_ratio[k] > 0.0 ? 1.0 - node.pore_ratio[k] : 1.0;
-    const double friction_dv = node.mu[k] * std::max(dn, 0.0) * effective;
+    // if that stops the slip, else slide with the full resistance. An interface's pore pressure
+    // has already pushed the bodies apart (the contact pass, push_pore), so the approach is
+    // the effective normal force's: mu (sigma_n - p) A.
+    const double friction_dv = node.mu[k] * std::max(dn, 0.0);
     const double resist = friction_dv + cohesion_dv;
     const double t_corr = resist >= t ? t : resist;
     c[k] = dn_corr * normal + (t > 0.0 ? Vec<D>((t_corr / t) * dv_t) : Vec<D>::Zero());

@@ -78,7 +78,7 @@ void set_pair_properties(ContactNode<D>& node, const std::int64_t* local, const 
   for (int k = 0; k < node.n; ++k) {
     const int other = heaviest_other(node, k);
     node.mu[k] = setup.friction(node.body[k], node.body[other]);
-    node.cohesion[k] = node.tension[k] = node.pore_ratio[k] = 0.0;
+    node.cohesion[k] = node.tension[k] = 0.0;
     if (const int f = setup.interface_of(node.body[k], node.body[other]); f >= 0) {
       const int s = is_slave(node, k, other) ? k : other;
       const BodyField<D>& S = fields[node.body[s]];
@@ -87,7 +87,6 @@ void set_pair_properties(ContactNode<D>& node, const std::int64_t* local, const 
         node.mu[k] = S.friction_area[i] / S.area[i];
         node.cohesion[k] = S.cohesion[i];
         node.tension[k] = S.tension[i];
-        if (S.needs.pressure) node.pore_ratio[k] = S.pore_ratio[i] / S.area[i];
         if (settling && setup.hold_interfaces) node.cohesion[k] = node.tension[k] = inf;
       }
     }
@@ -120,12 +119,10 @@ void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const S
     const double rate = node.opened[k] ? rel.norm() : (rel - rel.dot(nrm) * nrm).norm();
     // The work of the tangential impulse over the slip here heats the bands of the slave body's
     // particles at the node (theirs set the friction), in proportion to N_I A^p (1 - r^p), their
-    // share of the friction: per unit of that weight, J/m^2. One band, heated once.
-    if (K.needs.heating && is_slave(node, k, other)) {
-      const double weight = K.area[j] - K.pore_ratio[j]; // sum N A^p (1 - r^p)
-      if (weight > 1e-9 * K.area[j])
-        K.heat[j] = (node.friction_impulse[k] + node.cohesion_impulse[k]) * rate / weight;
-    }
+    // share of the friction on the effective normal force: per unit of that weight. One band,
+    // heated once; a node whose particles all carry no effective stress heats none.
+    if (K.needs.heating && is_slave(node, k, other) && K.heat_weight[j] > 0.0)
+      K.heat[j] = (node.friction_impulse[k] + node.cohesion_impulse[k]) * rate / K.heat_weight[j];
     const double v_k = node.m[k] / setup.bodies[node.body[k]].density;
     const double v_other = node.m[other] / setup.bodies[node.body[other]].density;
     const double s = v_other / (v_k + v_other);
@@ -134,6 +131,30 @@ void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const S
     K.slip_rate[j] = share * rate;
     K.slip_weight[j] = share;
   }
+}
+
+// The interface's pore pressure pushes the pair apart at the node (effective stress): the slave
+// body k's pore force P_I (Simulation::scatter_pore_force) as an impulse P_I dt along the
+// contact normal, -P_I dt n on the slave and +P_I dt n on its partner (none on a rigid one), so
+// that the contact that follows carries the effective normal force N - P and its friction is
+// mu (N - p A). Returns the force applied to body k (N; 0 if none).
+template <int D>
+double push_pore(ContactNode<D>& node, const std::int64_t* local, const Setup<D>& setup,
+                 const std::vector<BodyField<D>>& fields, int k, double dt) {
+  const BodyField<D>& K = fields[node.body[k]];
+  if (!K.needs.pressure || K.slots == 0) return 0.0;
+  const int other = heaviest_other(node, k);
+  const int f = setup.interface_of(node.body[k], node.body[other]);
+  if (f < 0 || !setup.interface_pressure[f] || !is_slave(node, k, other)) return 0.0;
+  const double P = K.pore_force[local[k] * K.slots + setup.slot(node.body[k], f)];
+  if (P <= 0.0) return 0.0;
+  const Vec<D> g = contact_direction(node, k);
+  const double g_norm = g.norm();
+  if (g_norm <= 0.0) return 0.0;
+  const Vec<D> impulse = (P * dt / g_norm) * g;
+  node.v[k] -= impulse / node.m[k];
+  if (!node.rigid[other]) node.v[other] += impulse / node.m[other];
+  return P;
 }
 
 } // namespace
@@ -231,7 +252,13 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         Vec<D> before[max_bodies_at_node];
         for (int k = 0; k < node.n; ++k)
           before[k] = node.v[k];
-        if (resolve_contact(node, setup_.contact_law, dt)) {
+        // The pore pressure's push, once a step (on v^{n+1}), before the contact law.
+        double pore[max_bodies_at_node]{};
+        bool pushed = false;
+        if (record && setup_.pore_pressure)
+          for (int k = 0; k < node.n; ++k)
+            pushed = (pore[k] = push_pore(node, local, setup_, fields_, k, dt)) > 0.0 || pushed;
+        if (resolve_contact(node, setup_.contact_law, dt) || pushed) {
           for (int k = 0; k < node.n; ++k) {
             (fields_[node.body[k]].*velocity)[local[k]] = node.v[k];
             if (!record) continue;
@@ -250,7 +277,8 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
             const int f = setup_.interface_of(node.body[k], node.body[other]);
             if (f >= 0 && is_slave(node, k, other)) // the slave side, counted once
               record_.add_interface(r, f, node.cohesion_impulse[k] / dt,
-                                    node.friction_impulse[k] / dt, node.normal_impulse[k] / dt);
+                                    node.friction_impulse[k] / dt,
+                                    node.normal_impulse[k] / dt + pore[k]); // N = N' + P
           }
         }
         if (record) measure_slip(node, local, setup_, fields_, dt);

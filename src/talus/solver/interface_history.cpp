@@ -38,8 +38,24 @@ void Simulation<D>::update_interface_history(double dt) {
       };
       const bool pore = P.pore[p] >= 0;
       const PoreRecord state = pore_.at(pore ? P.pore[p] : 0);
-      const double ratio = pore ? pore_ratio(static_cast<std::size_t>(p)) : 0.0; // the scatter's
-      if (pore) state.normal_stress() = gather(N.normal_stress);
+      const double share =
+          pore ? effective_share(static_cast<std::size_t>(p)) : 0.0; // the scatter's
+      // The total normal stress: the contact's (effective: the pore pressure has pushed the
+      // bodies apart) plus that push, each the particle's share of its nodes' (zero where they
+      // do not touch), as a recent mean. The push shared out is the mean pressure of the
+      // particles at the nodes, so a particle whose p is above its neighbours' sees the normal
+      // stress its nodes carry, not its own p: its effective stress is then below zero, and its
+      // band takes no heat and drains (BandGrid::step's ceiling).
+      if (pore) {
+        double pushed = 0.0;
+        for_each_node(N.box, shape_[p], [&](std::int64_t I, double N_I, const Vec<D>&) {
+          const std::size_t i = static_cast<std::size_t>(I * S + slot);
+          if (N.area[i] > 0.0) pushed += N_I * N.pore_force[i] / N.area[i];
+        });
+        const double contact = gather(N.normal_stress);
+        const double now = contact > 0.0 ? contact + pushed : 0.0;
+        state.normal_stress() += normal_stress_weight * (now - state.normal_stress());
+      }
       if (settling_) continue;
       double rate = 0.0, weight = 0.0;
       for_each_node(N.box, shape_[p], [&](std::int64_t I, double N_I, const Vec<D>&) {
@@ -52,12 +68,15 @@ void Simulation<D>::update_interface_history(double dt) {
       P.friction[p] = spec.friction.at(P.slip[p], spec.curve);
       if (pore && setup_.bands[P.iface[p]]) {
         // Thermal pressurization: the band takes its share of the frictional work at its nodes,
-        // (1 - r) sum N_I W_I (J/m^2; the particles at a node share its work by N_I A^p (1 - r),
-        // so the heat is the interface's dissipation and a band whose pore pressure has reached
-        // its normal stress, carrying no friction, takes none); its mean rises go to the pool's
-        // header for the next scatter and the output.
+        // (1 - r^p) sum N_I W_I (J/m^2; the particles at a node share its work by
+        // N_I A^p (1 - r^p), so the heat is the interface's dissipation and a band whose pore
+        // pressure has reached its normal stress, carrying no friction, takes none); above its
+        // normal stress the band is open and drains (the ceiling: sigma_n less the interface's
+        // own pore pressure); its mean rises go to the pool's header for the next scatter and
+        // the output.
         const BandGrid& band = *setup_.bands[P.iface[p]];
-        band.step(state.band(), (1.0 - ratio) * gather(N.heat), dt);
+        const double ambient = setup_.interfaces[P.iface[p]].pore_pressure;
+        band.step(state.band(), share * gather(N.heat), dt, state.normal_stress() - ambient);
         state.temperature_rise() = band.mean_temperature(state.band());
         state.pressure_rise() = band.mean_pressure(state.band());
       }

@@ -97,14 +97,77 @@ void Simulation<D>::scatter_particles() {
         N.friction_area[j] += N_I * muA;
         N.area[j] += N_I * A;
       });
-      if (P.pore[p] >= 0) { // sum N A^p min(p / sigma_n, 1): its mean at the node
-        const double ratio = pore_ratio(p);
+      if (P.pore[p] >= 0 && N.needs.heating) { // sum N A^p (1 - r^p): shares the heat out
+        const double weight = A * effective_share(p);
         for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
-          N.pore_ratio[I * S + slot] += N_I * A * ratio;
+          N.heat_weight[I * S + slot] += N_I * weight;
         });
       }
     }
   });
+}
+
+// The interfaces' excess pore pressure as a force between the bodies (effective stress,
+// docs/formulation.md, "Pore pressure on an interface"): each of the slave body's interface
+// particles carries p^p A^p, shared out over the nodes of its support where the pair meets, in
+// proportion to its weights there, P_I = sum p^p A^p N_I / max(sum_J N_J, min_pore_share)
+// (J: those nodes). The contact pass pushes the pair apart with it along its normal, so the
+// particle's whole pore force acts where the bodies meet (a node the partner does not reach is
+// inside the slave) and none acts where they do not. Reads the particles, the shape-weight cache
+// and the fields' mass; writes the slave fields' pore force. One pass in particle order: the
+// same sums on any number of threads, and on any number of processes (own and ghost particles
+// in one process's order).
+template <int D>
+void Simulation<D>::scatter_pore_force() {
+  constexpr double min_pore_share = 0.5;
+  if (!setup_.pore_pressure) return;
+  const auto& P = particles_;
+  for (BodyField<D>& F : fields_) // once, before any interface adds to its slot
+    std::fill(F.pore_force.begin(), F.pore_force.end(), 0.0);
+  for (std::size_t f = 0; f < setup_.interfaces.size(); ++f) {
+    if (!setup_.interface_pressure[f]) continue;
+    const int s = interface_slave(static_cast<int>(f));
+    const int o = setup_.interfaces[f].a == s ? setup_.interfaces[f].b : setup_.interfaces[f].a;
+    BodyField<D>& S = fields_[s];
+    const BodyField<D>& O = fields_[o];
+    if (!S.needs.pressure || S.slots == 0) continue;
+    const int slot = setup_.slot(s, static_cast<int>(f));
+    const bool rigid_partner = setup_.bodies[o].rigid;
+    const double rho_s = setup_.bodies[s].density, rho_o = setup_.bodies[o].density;
+    // The partner's local index of each slave node the particle reaches (-1: no partner mass).
+    constexpr int max_nodes = 27;
+    std::int64_t node[max_nodes], partner[max_nodes];
+    double weight[max_nodes];
+    for (std::size_t p = P.body_begin[s]; p < P.body_begin[s + 1]; ++p) {
+      if (P.iface[p] != static_cast<std::int32_t>(f) || P.pore[p] < 0 || P.field[p] != s) continue;
+      int n = 0;
+      double shared = 0.0;
+      for_each_node(S.box, shape_.weights[p], [&](std::int64_t I, double N_I, const Vec<D>&) {
+        Index<D> g = S.box.node_coords(I);
+        for (int d = 0; d < D; ++d)
+          g[d] += S.offset[d];
+        const std::int64_t j = O.local(g);
+        // Where the pair meets: both hold at least min_slip_share of the node's volume (m / rho;
+        // a rigid partner any), for at a fringe node a body's velocity is a force over a
+        // round-off mass and the push would fling it (detail::min_slip_share).
+        bool meets = N_I > 0.0 && j >= 0 && O.m[j] > 0.0;
+        if (meets && !rigid_partner) {
+          const double v_s = S.m[I] / rho_s, v_o = O.m[j] / rho_o;
+          meets = std::min(v_s, v_o) >= detail::min_slip_share * (v_s + v_o);
+        }
+        node[n] = I, partner[n] = meets ? j : -1, weight[n] = N_I, ++n;
+        if (meets) shared += N_I;
+      });
+      if (shared <= 0.0) continue; // the particle is not against its partner
+      // Renormalised over the nodes that meet, but never by more than 1 / min_pore_share: a
+      // particle that barely reaches its partner's nodes would otherwise put its whole force
+      // on a node where it has almost no mass (an acceleration p A / (shared m^p)).
+      const double force =
+          interface_pore_pressure(p) * P.iface_area[p] / std::max(shared, min_pore_share);
+      for (int k = 0; k < n; ++k)
+        if (partner[k] >= 0) S.pore_force[node[k] * S.slots + slot] += weight[k] * force;
+    }
+  }
 }
 
 // USF's force scatter, eq. 17-18. Reads the particles' stress, volume and mass and the
@@ -136,7 +199,8 @@ void Simulation<D>::map_forces_to_nodes() {
 #define TALUS_INSTANTIATE(D)                                                                       \
   template void Simulation<D>::map_particles_to_nodes(bool);                                       \
   template bool Simulation<D>::reaches_other_body(int, const ShapeWeights<D>&, int) const;         \
-  template void Simulation<D>::map_forces_to_nodes();
+  template void Simulation<D>::map_forces_to_nodes();                                              \
+  template void Simulation<D>::scatter_pore_force();
 TALUS_INSTANTIATE(2)
 TALUS_INSTANTIATE(3)
 

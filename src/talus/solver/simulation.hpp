@@ -91,17 +91,26 @@ public:
   // An interface particle's excess pore pressure (Pa): its interface's, plus its band's
   // thermal-pressurization rise; 0 off an interface.
   double interface_pore_pressure(std::size_t p) const;
-  // An interface particle's min(p / sigma_n, 1), sigma_n its normal stress of the last step (0
-  // where it has none): the share of its normal stress its pore pressure takes off friction.
-  double pore_ratio(std::size_t p) const {
+  // An interface particle's effective share, 1 - r^p = max(1 - p / sigma_n, 0) (1 where it has
+  // no normal stress yet), sigma_n its total normal stress over its recent steps (the pore
+  // pool's, a mean with weight normal_stress_weight on each step's, 0 where its nodes do not
+  // touch; set by update_interface_history). A node's frictional heat goes to its particles'
+  // bands in proportion to N_I A^p (1 - r^p): by sigma'^p itself, which is noisy from particle to
+  // particle, a node's whole heat would go to the one band with a small weight where the
+  // others carry none.
+  double effective_share(std::size_t p) const {
     const double sigma_n = pore_.at(particles_.pore[p]).normal_stress();
-    return sigma_n > 0.0 ? std::min(interface_pore_pressure(p) / sigma_n, 1.0) : 0.0;
+    return sigma_n > 0.0 ? std::max(1.0 - interface_pore_pressure(p) / sigma_n, 0.0) : 1.0;
   }
+  // The weight of each step's normal stress in an interface particle's recent mean: the contact's
+  // normal impulse at a node flickers from step to step, and its mean over about ten steps does
+  // not.
+  static constexpr double normal_stress_weight = 0.1;
 
   // The pore pool (core/pore_pool.hpp): per interface particle with pore pressure
   // (Particles::pore), the band-mean temperature and pore pressure rises (zero without a band),
-  // its compressive normal stress (the contact's normal force of the last step shared out by
-  // N_I A^p), then the profiles across its band if it has one.
+  // its total compressive normal stress (the running mean above), then the profiles across its
+  // band if it has one.
   const PorePool& pore_pool() const { return pore_; }
 
   // What the set-up noticed but did not refuse (e.g. an interface whose bodies do not touch).
@@ -152,6 +161,17 @@ public:
   void map_particles_to_nodes(bool with_forces);
   void map_forces_to_nodes();
   void compute_node_velocities();
+  // The interfaces' excess pore pressure as a force on the nodes where each pair meets, which
+  // the contact pass pushes the pair apart with (effective stress).
+  void scatter_pore_force();
+  // Interface f's slave body, as the contact pass decides it (detail::is_slave): the deformable
+  // one against a rigid body, else the lighter (ties: the earlier).
+  int interface_slave(int f) const {
+    const int a = setup_.interfaces[f].a, b = setup_.interfaces[f].b;
+    const BodySetup<D>&A = setup_.bodies[a], &B = setup_.bodies[b];
+    if (A.rigid != B.rigid) return A.rigid ? b : a;
+    return A.mass + 1e-9 * a < B.mass + 1e-9 * b ? a : b;
+  }
   void integrate_node_forces(double dt);
   void apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*velocity);
   // Contact on one velocity array of every body field (v, v_new or v_remap); `record` keeps its

@@ -50,7 +50,7 @@ TEST(BodyField, RefitClearsAndAllocatesOnlyWhatTheRunNeeds) {
   EXPECT_EQ(lean.m.size(), 16u);
   for (const std::size_t n :
        {lean.grad_m.size(), lean.mx.size(), lean.v_remap.size(), lean.cohesion.size(),
-        lean.area.size(), lean.pore_ratio.size(), lean.heat.size()})
+        lean.area.size(), lean.heat_weight.size(), lean.heat.size()})
     EXPECT_EQ(n, 0u);
 
   BodyField<2> full;
@@ -60,7 +60,7 @@ TEST(BodyField, RefitClearsAndAllocatesOnlyWhatTheRunNeeds) {
   EXPECT_EQ(full.grad_m.size(), 16u);
   EXPECT_EQ(full.v_remap.size(), 16u);
   for (const std::size_t n : {full.cohesion.size(), full.tension.size(), full.slip_weight.size(),
-                              full.pore_ratio.size(), full.normal_stress.size(), full.heat.size()})
+                              full.heat_weight.size(), full.normal_stress.size(), full.heat.size()})
     EXPECT_EQ(n, 32u);
 
   full.m[5] = 3.0;
