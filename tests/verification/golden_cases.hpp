@@ -190,7 +190,7 @@ inline const std::vector<GoldenCase>& golden_cases() {
        {"grid.cell_size=16", "interface.0.friction.slip=0.02", "interface.0.cohesion.slip=0.02"},
        50,
        200,
-       0xf474a1ccf43181e7ull},
+       0xb4f8b5892deb11bdull},
       // Five bodies: where orphans appear.
       {"vaiont_five",
        "cases/vaiont/five_bodies.toml",
