@@ -235,7 +235,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         node.grad_m[k] = N.grad_m[i];
         node.x[k] = N.mx[i] / N.m[i];
         node.rigid[k] = body.rigid;
-        node.rank[k] = body.mass + 1e-9 * b; // ties broken by body order
+        node.rank[k] = detail::body_rank(body.mass, b);
         node.surface_normal[k].setZero();
       }
       if (node.n >= 2) {

@@ -66,10 +66,17 @@ int heaviest_other(const ContactNode<D>& node, int k) {
 // particles carry the bond (capacities, friction, degradation) and whose impulses the interface
 // totals count. Against a rigid body, the deformable one (a rigid body's particles are never
 // corrected and record no slip); otherwise the lighter (the lower rank, as for the normal).
+// A body's rank: its mass, ties broken by body order.
+inline double body_rank(double mass, int b) {
+  return mass + 1e-9 * b;
+}
+inline bool slave_rule(bool rigid, double rank, bool other_rigid, double other_rank) {
+  if (rigid != other_rigid) return !rigid;
+  return rank < other_rank;
+}
 template <int D>
 bool is_slave(const ContactNode<D>& node, int k, int other) {
-  if (node.rigid[k] != node.rigid[other]) return !node.rigid[k];
-  return node.rank[k] < node.rank[other];
+  return slave_rule(node.rigid[k], node.rank[k], node.rigid[other], node.rank[other]);
 }
 
 // Interface slip (docs/formulation.md): a node measures it only where each of the two bodies has

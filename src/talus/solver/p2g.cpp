@@ -107,6 +107,16 @@ void Simulation<D>::scatter_particles() {
   });
 }
 
+template <int D>
+int Simulation<D>::interface_slave(int f) const {
+  const int a = setup_.interfaces[f].a, b = setup_.interfaces[f].b;
+  const BodySetup<D>&A = setup_.bodies[a], &B = setup_.bodies[b];
+  return detail::slave_rule(A.rigid, detail::body_rank(A.mass, a), B.rigid,
+                            detail::body_rank(B.mass, b))
+             ? a
+             : b;
+}
+
 // The interfaces' excess pore pressure as a force between the bodies (effective stress,
 // docs/formulation.md, "Pore pressure on an interface"): each of the slave body's interface
 // particles carries p^p A^p, shared out over the nodes of its support where the pair meets, in

@@ -166,12 +166,7 @@ public:
   void scatter_pore_force();
   // Interface f's slave body, as the contact pass decides it (detail::is_slave): the deformable
   // one against a rigid body, else the lighter (ties: the earlier).
-  int interface_slave(int f) const {
-    const int a = setup_.interfaces[f].a, b = setup_.interfaces[f].b;
-    const BodySetup<D>&A = setup_.bodies[a], &B = setup_.bodies[b];
-    if (A.rigid != B.rigid) return A.rigid ? b : a;
-    return A.mass + 1e-9 * a < B.mass + 1e-9 * b ? a : b;
-  }
+  int interface_slave(int f) const;
   void integrate_node_forces(double dt);
   void apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*velocity);
   // Contact on one velocity array of every body field (v, v_new or v_remap); `record` keeps its
