@@ -29,12 +29,7 @@ BlockRun run_block(const std::vector<std::string>& overrides, const std::vector<
   const Case c = parse_case_file(
       std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/cohesive_block.toml", overrides);
   Simulation<2> sim(c);
-  if (const double T = c.initial_state.settle_time; T > 0.0) { // damped, interfaces held
-    sim.set_settling(true);
-    while (sim.time() < T - 1e-12)
-      sim.step(T - sim.time());
-    sim.release(); // time 0, displacements from here
-  }
+  test::settle(sim, c); // damped, interfaces held
   const auto& P = sim.particles();
   const Vec<2> dir(std::cos(theta), -std::sin(theta));
   auto centroid = [&] {

@@ -121,14 +121,6 @@ Case cohesive_block(std::vector<std::string> set) {
                          set);
 }
 
-void settle(Simulation<2>& sim, const Case& c) {
-  const double T = c.initial_state.settle_time;
-  sim.set_settling(true);
-  while (sim.time() < T - 1e-12)
-    sim.step(T - sim.time());
-  sim.release();
-}
-
 // An excess pore pressure p on the interface: friction acts on sigma_n - p, so
 // a = g (sin - mu (1 - p / sigma_n) cos) - c A / m, sigma_n = m g cos / A. The closed form takes
 // sigma_n uniform; the elastic block's base stress is not (at 1 s it ranges over 4-77 kPa about
@@ -143,7 +135,7 @@ TEST(PorePressure, BlockOnAPlaneWithinHalfAPercent) {
         {fmt::format("interface.0.friction={{initial={0}, residual={0}, slip=1.0}}", mu_i),
          fmt::format("interface.0.pore_pressure={}", p)});
     Simulation<2> sim(cs);
-    settle(sim, cs);
+    test::settle(sim, cs);
     const double a =
         g * (std::sin(theta) - mu_i * (1.0 - p / sigma_n) * std::cos(theta)) - c * A / m;
     for (const double t : {1.0, 2.0}) {
@@ -181,7 +173,7 @@ BandRun slide_with_band(double lambda, double h, const std::vector<double>& time
                    "thermal_diffusivity=0, hydraulic_diffusivity=0, lambda={}}}",
                    h, rho_c, lambda)});
   Simulation<2> sim(cs);
-  settle(sim, cs);
+  test::settle(sim, cs);
   const auto& P = sim.particles();
   BandRun r;
   for (const double t : times) {
@@ -302,7 +294,7 @@ TEST(ThermalPressurization, DrivenBlockWeakensAsTheClosedForm) {
   for (const Variant& v : variants) {
     const Case cs = test::case_from(driven_block, {v.set});
     Simulation<2> sim(cs);
-    settle(sim, cs);
+    test::settle(sim, cs);
     for (const double t : {0.25, 0.5, 0.75, 1.0}) {
       // The frictional force averaged over the last 0.05 s (the steps' values ring a little).
       double sum = 0.0, normal = 0.0, span = 0.0;

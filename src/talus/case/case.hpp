@@ -195,6 +195,10 @@ struct InitialState {
   // they have their own, so the settled state already carries any local slip that the weight
   // causes where the bond is weaker than the traction (still nothing degrades).
   bool hold_interfaces = true;
+  // true: while settling, every contact sticks (unlimited friction; bodies may still separate),
+  // so a body resting on a slope settles to the stress of its equilibrium there: a benchmark
+  // whose closed form is a rigid block's then starts from that stress and measures the law.
+  bool hold_contacts = false;
   // CFL number while settling (default: simulation.cfl). The settling is damped and quasi-static:
   // a larger number reaches a similar rest in fewer steps.
   std::optional<double> settle_cfl;

@@ -436,6 +436,7 @@ void read_initial_state(TableReader& root, Case& c) {
             c.initial_state.settle_damping >= 0.0 && c.initial_state.settle_damping < 1.0,
             "must be in [0, 1)");
     c.initial_state.hold_interfaces = ri.boolean("hold_interfaces", true);
+    c.initial_state.hold_contacts = ri.boolean("hold_contacts", false);
     c.initial_state.settle_cfl = ri.optional_number("settle_cfl");
     if (c.initial_state.settle_cfl) {
       require(ri, "settle_cfl",

@@ -145,7 +145,10 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
     // if that stops the slip, else slide with the full resistance. An interface's pore pressure
     // has already pushed the bodies apart (the contact pass, push_pore), so the approach is
     // the effective normal force's: mu (sigma_n - p) A.
-    const double friction_dv = node.mu[k] * std::max(dn, 0.0);
+    // mu is inf where contacts are held while settling: it sticks, and adds nothing at rest.
+    const double approach = std::max(dn, 0.0);
+    const double friction_dv =
+        approach > 0.0 || std::isfinite(node.mu[k]) ? node.mu[k] * approach : 0.0;
     const double resist = friction_dv + cohesion_dv;
     const double t_corr = resist >= t ? t : resist;
     c[k] = dn_corr * normal + (t > 0.0 ? Vec<D>((t_corr / t) * dv_t) : Vec<D>::Zero());

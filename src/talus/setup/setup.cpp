@@ -81,6 +81,7 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const std::vector<double
   s.damping = c.simulation.damping;
   s.settle_damping = c.initial_state.settle_damping;
   s.hold_interfaces = c.initial_state.hold_interfaces;
+  s.hold_contacts = c.initial_state.hold_contacts;
   s.normal_smoothing = c.contact.normal_smoothing;
   s.orphan_fraction = c.contact.orphan_fraction;
   s.record_contact_nodes = c.output.contact_nodes;

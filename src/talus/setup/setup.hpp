@@ -71,6 +71,7 @@ struct Setup {
   double flip = 1.0;
   double damping = 0.0, settle_damping = 0.0; // local damping in motion and while settling
   bool hold_interfaces = true;                // settling holds bonded interfaces outright
+  bool hold_contacts = false;                 // settling sticks every contact
   int normal_smoothing = 1;                   // cells
   double orphan_fraction = 0.0;
   bool record_contact_nodes = false; // output.contact_nodes

@@ -71,7 +71,8 @@ Vec<D> smoothed_gradient(const BodyField<D>& N, const Index<D>& g, int radius) {
 
 // Each body's friction at the node is that of its pair with the heaviest other body there; on
 // an interface pair the slave body's interface particles give the friction and the cohesive and
-// tensile capacities (eq. 37). Settling with hold_interfaces holds a bond outright.
+// tensile capacities (eq. 37). Settling with hold_interfaces holds a bond outright; with
+// hold_contacts every pair sticks (unlimited friction).
 template <int D>
 void set_pair_properties(ContactNode<D>& node, const std::int64_t* local, const Setup<D>& setup,
                          const std::vector<BodyField<D>>& fields, bool settling) {
@@ -90,6 +91,7 @@ void set_pair_properties(ContactNode<D>& node, const std::int64_t* local, const 
         if (settling && setup.hold_interfaces) node.cohesion[k] = node.tension[k] = inf;
       }
     }
+    if (settling && setup.hold_contacts) node.mu[k] = inf;
   }
 }
 
