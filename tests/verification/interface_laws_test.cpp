@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <numbers>
@@ -99,10 +100,7 @@ Motion run_block(double theta, double mu, double ratio, double v0) {
   const double sigma_n = density * height * g * std::cos(t);
   const Case c = test::case_from(block_on_plane<D>(theta, mu, ratio * sigma_n));
   Simulation<D> sim(c);
-  sim.set_settling(true);
-  while (sim.time() < c.initial_state.settle_time - 1e-12)
-    sim.step(c.initial_state.settle_time - sim.time());
-  sim.release();
+  test::settle(sim, c);
   const double t0 = sim.time();
   if (v0 != 0.0) {
     auto& P = sim.particles_mut();
@@ -121,7 +119,7 @@ Motion run_block(double theta, double mu, double ratio, double v0) {
 }
 
 struct Sweep {
-  int cells = 0, misses = 0, known = 0;
+  int cells = 0, misses = 0, known = 0, skipped = 0;
   double worst = 0.0, worst_closed = 0.0;
 };
 
@@ -144,6 +142,16 @@ bool known_miss(double theta, double mu, double ratio) {
 // block starts at v0 = 1.2 s x |a|, so that it decelerates over the whole window.
 template <int D>
 void wet_against_dry(double theta, double mu, double ratio, Sweep& sweep) {
+  // A known cell asserts nothing, so CI does not run it; TALUS_SWEEP_ALL=1 runs the whole table
+  // of docs/verification.md (the 2D cells are also checks of `talus verify`, general_blocks).
+  if (known_miss(theta, mu, ratio) && !std::getenv("TALUS_SWEEP_ALL")) {
+    ++sweep.cells, ++sweep.skipped;
+    std::printf(
+        "%dD theta %2.0f mu %.1f p/sigma_n %.1f: a known region, not run (TALUS_SWEEP_ALL=1 "
+        "runs it)\n",
+        D, theta, mu, ratio);
+    return;
+  }
   const double t = theta * std::numbers::pi / 180.0;
   const double a = g * (std::sin(t) - mu * (1.0 - ratio) * std::cos(t));
   const double v0 = theta == 0.0 ? -1.2 * a : 0.0;
@@ -175,9 +183,10 @@ void wet_against_dry(double theta, double mu, double ratio, Sweep& sweep) {
 
 void summary(int D, const Sweep& s) {
   std::printf("%dD: %d of %d cells within 1 %% of the dry block at the effective friction, %d "
-              "known misses (the others: worst %.2f %%, the closed form within %.2f %%)\n",
-              D, s.cells - s.misses - s.known, s.cells, s.known, 100 * s.worst,
-              100 * s.worst_closed);
+              "known misses, %d known cells not run (the others: worst %.2f %%, the closed form "
+              "within %.2f %%)\n",
+              D, s.cells - s.misses - s.known - s.skipped, s.cells, s.known, s.skipped,
+              100 * s.worst, 100 * s.worst_closed);
 }
 
 // 2D: 3 angles x 3 frictions x p / sigma_n 0.3, 0.6, 0.9 driven down the plane (the blocks that
