@@ -160,13 +160,14 @@ inline const std::vector<GoldenCase>& golden_cases() {
        0,
        200,
        0x3be009b7ef5e0339ull},
-      // A block on a fixed rigid plane (the held field), with contact-node output.
+      // A block on a fixed rigid plane (the held field), with contact-node output, after
+      // settling with the contact held (initial_state.hold_contacts).
       {"sliding_block",
        "cases/benchmarks/sliding_block.toml",
        {"contact.0.friction=0.174", "output.contact_nodes=true"},
-       0,
+       30,
        200,
-       0x6401d84024f76a70ull},
+       0x77365e87bf30f3ffull},
       // A cohesive interface that degrades with slip, after damped settling with the bond held.
       {"cohesive_block",
        "cases/benchmarks/cohesive_block.toml",
