@@ -36,7 +36,8 @@ COHESIVE_MISS = ("cohesion on an interface that lies on a grid line: about a qua
 
 def known(theta, mu, ratio):
     """Where the contact law itself misses (reported, not failed): the regions of
-    tests/verification/interface_laws_test.cpp's known_miss()."""
+    tests/verification/interface_laws_test.cpp's known_miss(), and an effective friction of 0.8
+    (the dry law's miss at high friction, which that sweep does not run)."""
     limit = mu * (1.0 - ratio) / math.tan(math.radians(theta))
     if 0.75 < limit < 1.25:
         return ("near the friction limit, mu (1 - r) / tan(theta) = %.2f: the elastic block "
