@@ -25,22 +25,16 @@ COHESION = 1000.0                         # Pa: c A / m = 1 m/s^2
 COHESIVE_FRICTIONS = (0.2, 0.5)
 
 
-# Measured on general_blocks (docs/verification.md, "General parameters"): with the interface on a
-# grid line the cohesive capacity that the interface particles scatter onto the node row above
-# it, which the plane does not reach, is never applied.
-COHESIVE_MISS = ("cohesion on an interface that lies on a grid line: about a quarter of the "
-                 "capacity sits on nodes the partner does not reach and is lost (+4.8 to +62 %; "
-                 "the same block half a cell higher is within 0.11 %) (docs/verification.md, "
-                 "\\\"General parameters\\\")")
-
-
-def known(theta, mu, ratio):
+def known(theta, mu, ratio, c):
     """Where the contact law itself misses (reported, not failed): the regions of
     tests/verification/interface_laws_test.cpp's known_miss(), and an effective friction of 0.8
-    (the dry law's miss at high friction, which that sweep does not run)."""
-    limit = mu * (1.0 - ratio) / math.tan(math.radians(theta))
+    (the dry law's miss at high friction, which that sweep does not run). Near the limit means
+    the interface's resistance over the drive, (mu (1 - r) g cos + c A / m) / (g sin), between
+    0.75 and 1.25."""
+    t = math.radians(theta)
+    limit = (mu * (1.0 - ratio) * G * math.cos(t) + c * BASE / (RHO * H * BASE)) / (G * math.sin(t))
     if 0.75 < limit < 1.25:
-        return ("near the friction limit, mu (1 - r) / tan(theta) = %.2f: the elastic block "
+        return ("near the friction limit, resistance / drive = %.2f: the elastic block "
                 "creeps (docs/verification.md, \\\"General parameters\\\")" % limit)
     if mu * (1.0 - ratio) >= 0.8:
         return ("an effective friction of 0.8: the dry law misses at high friction (+1.9 % at "
@@ -72,7 +66,7 @@ def check(theta, mu, ratio, c):
     else:
         lines += ["min = -0.001", "max = 0.001",
                   'source = "closed form: held, g sin <= g mu (1 - p / sigma_n) cos + c A / m"']
-    why = known(theta, mu, ratio) if c == 0.0 else COHESIVE_MISS
+    why = known(theta, mu, ratio, c)
     if why:
         lines.append(f'known_miss = "{why}"')
     return "\n".join(lines)

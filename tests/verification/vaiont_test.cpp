@@ -36,14 +36,16 @@ TEST(Vaiont, ThreeBodiesMoveAndStop) {
   EXPECT_LT(res["runout_duration_s"].get<double>(), 45.0);
 }
 
-// The five-body case at 8 m: the slide's parts are cut off from their bodies here and there
+// The five-body case at 4 m: the slide's parts are cut off from their bodies here and there
 // along the faults. Before the orphan rule (docs/formulation.md) such particles were squeezed to
 // 960 MPa and chattered at up to 94 m/s to the end, and the energy budget of all bodies was off
 // by -270 % of the gravity work at 45 s. Now: every particle is slow at the end and the budget of
-// all bodies together closes (-3.8 % at 8 m, -2.0 % at 4 m).
+// all bodies together closes to -2.3 % at 4 m. At 8 m it is off by 10 % (-9.9 % before the
+// cohesive capacity was shared over the nodes where the pair meets, -10.8 % after): the coarse
+// grid's own error, too loose to be worth a test.
 TEST(Vaiont, FiveBodiesEndAtRestAndTheirBudgetCloses) {
   const Case c = parse_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/vaiont/five_bodies.toml",
-                                 {"grid.cell_size=16", "output.particles=false"});
+                                 {"grid.cell_size=8", "output.particles=false"});
   RunOptions opt;
   opt.out_dir = test::temp_dir("vaiont5");
   const RunResult r = run_case(c, opt);
@@ -73,9 +75,9 @@ TEST(Vaiont, FiveBodiesEndAtRestAndTheirBudgetCloses) {
     unbalanced +=
         num("gravity_work") + num("contact_work") - num("internal_work") - num("kinetic_energy");
   }
-  std::printf("five bodies (8 m): all bodies' unbalanced energy %.3g J of %.3g J gravity work\n",
+  std::printf("five bodies (4 m): all bodies' unbalanced energy %.3g J of %.3g J gravity work\n",
               unbalanced, gravity);
-  EXPECT_LT(std::abs(unbalanced), 0.1 * gravity);
+  EXPECT_LT(std::abs(unbalanced), 0.05 * gravity);
 }
 
 } // namespace

@@ -37,7 +37,7 @@ struct BodyField {
   std::vector<double> cohesion, tension, friction_area, area, slip_rate, slip_weight;
   // With excess pore pressure on an interface: the pore pressure's force (N, per unit thickness
   // in 2D) on the nodes where the pair meets, which pushes the bodies apart
-  // (Simulation::scatter_pore_force); sum N A^p (1 - r^p), r^p = min(p^p / sigma_n^p, 1), which
+  // (Simulation::share_interface_loads); sum N A^p (1 - r^p), r^p = min(p^p / sigma_n^p, 1), which
   // shares the frictional heat out; and the contact's (effective) normal force per unit of the
   // body's interface area (Pa), shared out as the particles' normal stress; with thermal
   // pressurization the frictional work of the step per unit of that weight (J/m^2), shared out

@@ -136,7 +136,7 @@ void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const S
 }
 
 // The interface's pore pressure pushes the pair apart at the node (effective stress): the slave
-// body k's pore force P_I (Simulation::scatter_pore_force) as an impulse P_I dt along the
+// body k's pore force P_I (Simulation::share_interface_loads) as an impulse P_I dt along the
 // contact normal, -P_I dt n on the slave and +P_I dt n on its partner (none on a rigid one), so
 // that the contact that follows carries the effective normal force N - P and its friction is
 // mu (N - p A). Returns the force applied to body k (N; 0 if none).

@@ -84,16 +84,13 @@ void Simulation<D>::scatter_particles() {
     else
       map.template operator()<false>();
     if (P.iface[p] >= 0 && f == b) { // eq. 37 (an orphan is not on its interface any more): the
-                                     // interface particle's share of the node's capacity
-      const InterfaceSpec& spec = setup_.interfaces[P.iface[p]];
+                                     // interface particle's friction and area at its nodes (its
+                                     // capacities: share_interface_loads)
       const double A = P.iface_area[p];
-      const double cA = P.cohesion[p] * A, tA = tensile_strength(spec, P.cohesion[p]) * A;
       const double muA = P.friction[p] * A;
       const int S = N.slots, slot = setup_.slot(b, P.iface[p]);
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
         const std::int64_t j = I * S + slot;
-        N.cohesion[j] += N_I * cA;
-        N.tension[j] += N_I * tA;
         N.friction_area[j] += N_I * muA;
         N.area[j] += N_I * A;
       });
@@ -117,30 +114,35 @@ int Simulation<D>::interface_slave(int f) const {
              : b;
 }
 
-// The interfaces' excess pore pressure as a force between the bodies (effective stress,
-// docs/formulation.md, "Pore pressure on an interface"): each of the slave body's interface
-// particles carries p^p A^p, shared out over the nodes of its support where the pair meets, in
-// proportion to its weights there, P_I = sum p^p A^p N_I / max(sum_J N_J, min_pore_share)
-// (J: those nodes). The contact pass pushes the pair apart with it along its normal, so the
-// particle's whole pore force acts where the bodies meet (a node the partner does not reach is
-// inside the slave) and none acts where they do not. Reads the particles, the shape-weight cache
-// and the fields' mass; writes the slave fields' pore force. One pass in particle order: the
-// same sums on any number of threads, and on any number of processes (own and ghost particles
-// in one process's order).
+// What each of an interface's slave particles carries across it, shared out over the nodes of
+// its support where the pair meets, in proportion to its weights there: its cohesive and tensile
+// capacities c^p A^p and t^p A^p (eq. 37) and its excess pore pressure's force p^p A^p
+// (docs/formulation.md, "Pore pressure on an interface"),
+//   X_I = sum_p X^p N_I / max(sum_J N_J, min_share)   (J: the nodes where the pair meets).
+// Contact acts only at nodes both bodies reach: a share scattered onto a node the partner does
+// not reach (the row of nodes inside the slave along a grid-aligned interface) would be lost, and
+// a cohesive block would hold with a fraction of c A. The pore force pushes the pair apart at
+// those nodes (push_pore); the capacities bound the contact's tangential and opening impulses.
+// Reads the particles, the shape-weight cache and the fields' mass; writes the slave fields'
+// cohesion, tension and pore force. One pass in particle order: the same sums on any number of
+// threads, and on any number of processes (own and ghost particles in one process's order).
 template <int D>
-void Simulation<D>::scatter_pore_force() {
-  constexpr double min_pore_share = 0.5;
-  if (!setup_.pore_pressure) return;
+void Simulation<D>::share_interface_loads() {
+  constexpr double min_share = 0.5;
   const auto& P = particles_;
-  for (BodyField<D>& F : fields_) // once, before any interface adds to its slot
+  for (BodyField<D>& F : fields_) { // once, before any interface adds to its slot
+    std::fill(F.cohesion.begin(), F.cohesion.end(), 0.0);
+    std::fill(F.tension.begin(), F.tension.end(), 0.0);
     std::fill(F.pore_force.begin(), F.pore_force.end(), 0.0);
+  }
   for (std::size_t f = 0; f < setup_.interfaces.size(); ++f) {
-    if (!setup_.interface_pressure[f]) continue;
+    const InterfaceSpec& spec = setup_.interfaces[f];
     const int s = interface_slave(static_cast<int>(f));
-    const int o = setup_.interfaces[f].a == s ? setup_.interfaces[f].b : setup_.interfaces[f].a;
+    const int o = spec.a == s ? spec.b : spec.a;
     BodyField<D>& S = fields_[s];
     const BodyField<D>& O = fields_[o];
-    if (!S.needs.pressure || S.slots == 0) continue;
+    if (S.slots == 0) continue;
+    const bool pressure = setup_.pore_pressure && setup_.interface_pressure[f] && S.needs.pressure;
     const int slot = setup_.slot(s, static_cast<int>(f));
     const bool rigid_partner = setup_.bodies[o].rigid;
     const double rho_s = setup_.bodies[s].density, rho_o = setup_.bodies[o].density;
@@ -149,7 +151,11 @@ void Simulation<D>::scatter_pore_force() {
     std::int64_t node[max_nodes], partner[max_nodes];
     double weight[max_nodes];
     for (std::size_t p = P.body_begin[s]; p < P.body_begin[s + 1]; ++p) {
-      if (P.iface[p] != static_cast<std::int32_t>(f) || P.pore[p] < 0 || P.field[p] != s) continue;
+      if (P.iface[p] != static_cast<std::int32_t>(f) || P.field[p] != s) continue;
+      const double A = P.iface_area[p];
+      const double cA = P.cohesion[p] * A, tA = tensile_strength(spec, P.cohesion[p]) * A;
+      const double pA = pressure && P.pore[p] >= 0 ? interface_pore_pressure(p) * A : 0.0;
+      if (cA <= 0.0 && tA <= 0.0 && pA <= 0.0) continue;
       int n = 0;
       double shared = 0.0;
       for_each_node(S.box, shape_.weights[p], [&](std::int64_t I, double N_I, const Vec<D>&) {
@@ -169,13 +175,19 @@ void Simulation<D>::scatter_pore_force() {
         if (meets) shared += N_I;
       });
       if (shared <= 0.0) continue; // the particle is not against its partner
-      // Renormalised over the nodes that meet, but never by more than 1 / min_pore_share: a
-      // particle that barely reaches its partner's nodes would otherwise put its whole force
-      // on a node where it has almost no mass (an acceleration p A / (shared m^p)).
-      const double force =
-          interface_pore_pressure(p) * P.iface_area[p] / std::max(shared, min_pore_share);
-      for (int k = 0; k < n; ++k)
-        if (partner[k] >= 0) S.pore_force[node[k] * S.slots + slot] += weight[k] * force;
+      // Renormalised over the nodes that meet, but never by more than 1 / min_share: a particle
+      // that barely reaches its partner's nodes would otherwise put its whole pore force on a
+      // node where it has almost no mass (an acceleration p A / (shared m^p)).
+      const double denominator = std::max(shared, min_share);
+      const double c_share = cA / denominator, t_share = tA / denominator;
+      const double force = pA / denominator;
+      for (int k = 0; k < n; ++k) {
+        if (partner[k] < 0) continue;
+        const std::int64_t j = node[k] * S.slots + slot;
+        if (cA > 0.0) S.cohesion[j] += weight[k] * c_share;
+        if (tA > 0.0) S.tension[j] += weight[k] * t_share;
+        if (pA > 0.0) S.pore_force[j] += weight[k] * force;
+      }
     }
   }
 }
@@ -210,7 +222,8 @@ void Simulation<D>::map_forces_to_nodes() {
   template void Simulation<D>::map_particles_to_nodes(bool);                                       \
   template bool Simulation<D>::reaches_other_body(int, const ShapeWeights<D>&, int) const;         \
   template void Simulation<D>::map_forces_to_nodes();                                              \
-  template void Simulation<D>::scatter_pore_force();
+  template void Simulation<D>::share_interface_loads();                                            \
+  template int Simulation<D>::interface_slave(int) const;
 TALUS_INSTANTIATE(2)
 TALUS_INSTANTIATE(3)
 

@@ -87,6 +87,7 @@ void Simulation<D>::step(double dt_limit) {
   const Scheme scheme = setup_.scheme;
   timed(T.other), begin_step(dt_limit);                        // dt, sort, bins, boxes
   timed(T.p2g), map_particles_to_nodes(scheme != Scheme::usf); // eq. 14-18, 30
+  timed(T.contact), share_interface_loads();                   // eq. 37, pore pressure
   timed(T.grid), compute_node_velocities(), apply_velocity_conditions(&F::v); // eq. 19
   if (scheme == Scheme::usf) { // stress first, from the velocity of the mapped momentum
     timed(T.contact), apply_contact(&F::v, dt_, false), apply_velocity_conditions(&F::v);
@@ -97,8 +98,7 @@ void Simulation<D>::step(double dt_limit) {
   timed(T.grid), integrate_node_forces(dt_), apply_velocity_conditions(&F::v_new); // eq. 20
   // Eq. 31-37: contact on v^{n+1}, recorded (forces, work, contact nodes, slip rates), after the
   // interfaces' pore pressure has pushed each pair apart.
-  timed(T.contact), scatter_pore_force(), apply_contact(&F::v_new, dt_, true),
-      apply_velocity_conditions(&F::v_new);
+  timed(T.contact), apply_contact(&F::v_new, dt_, true), apply_velocity_conditions(&F::v_new);
   if (scheme == Scheme::musl) { // eq. 22-23, then the re-map and the stress from it
     timed(T.g2p), update_particles_and_remap(dt_), apply_velocity_conditions(&F::v_remap);
     timed(T.contact), apply_contact(&F::v_remap, dt_, false);

@@ -161,9 +161,9 @@ public:
   void map_particles_to_nodes(bool with_forces);
   void map_forces_to_nodes();
   void compute_node_velocities();
-  // The interfaces' excess pore pressure as a force on the nodes where each pair meets, which
-  // the contact pass pushes the pair apart with (effective stress).
-  void scatter_pore_force();
+  // The interfaces' cohesive and tensile capacities and excess pore pressure's force, shared over
+  // the nodes where each pair meets: the bond and the push (effective stress) of the contact pass.
+  void share_interface_loads();
   // Interface f's slave body, as the contact pass decides it (detail::is_slave): the deformable
   // one against a rigid body, else the lighter (ties: the earlier).
   int interface_slave(int f) const;
