@@ -6,7 +6,8 @@ frame (particles, streamed to rank 0, and contact nodes), the ParaView series, a
 in summary.json. Then: a run stopped on 2 processes
 (--max-steps), its newest checkpoint damaged, and restarted on 3 ends identical (each process
 reading its slab of the older checkpoint); a process killed with SIGKILL stops the others
-and leaves its newest checkpoint readable, and a one-process restart from it ends identical; a
+and leaves its newest checkpoint readable, and a one-process restart from it ends identical; the
+3D volcano slide's hazard maps (GeoTIFFs) on 2 and 3 processes are the one-process run's; a
 grid too narrow for the processes is refused with a message naming its columns; a bad case's
 error is printed once, not once per process.
 
@@ -153,6 +154,29 @@ one = json.loads((d1 / "summary.json").read_text()).get("message", "")
 if message.replace("process 0 of 2: ", "").replace(str(d), str(d1)) != one:
     failures.append(f"unstable: 2 processes say '{message}', one process '{one}'")
 
+# Hazard maps ([maps]) of the 3D volcano slide: the GeoTIFFs on 2 and 3 processes are the
+# one-process run's, byte for byte (their cell sums are integers: exact in any order).
+volcano = source / "cases/examples/volcano_slide.toml"
+maps_settings = ["--set", 'maps.bodies=["slide"]', "--set", "initial_state.settle_time=0.5",
+                 "--set", "simulation.end_time=2.0", "--set", "output.every=1.0", "--set",
+                 "output.particles=false"]
+d1 = fresh("maps_one")
+rc, out = run([serial, "run", str(volcano), "--out", str(d1), *maps_settings], 2)
+if rc != 0:
+    failures.append(f"maps, one process: exit {rc}: {out[-800:]}")
+for np in (2, 3):
+    d = fresh(f"maps_np{np}")
+    rc, out = run([*mpi(np, 1), "run", str(volcano), "--out", str(d), *maps_settings], 1)
+    if rc != 0:
+        failures.append(f"maps, {np} processes: exit {rc}: {out[-800:]}")
+        continue
+    tifs = sorted(p.name for p in (d1 / "maps").glob("*.tif"))
+    if len(tifs) != 6:
+        failures.append(f"maps: the one-process run wrote {tifs}")
+    for n in tifs:
+        if (d1 / "maps" / n).read_bytes() != (d / "maps" / n).read_bytes():
+            failures.append(f"maps, {np} processes: maps/{n} differs from the one-process run")
+
 # A grid too narrow for the processes' slabs.
 d = fresh("narrow")
 rc, out = run([*mpi(4, 1), "run", str(source / "cases/benchmarks/cohesive_block.toml"), "--out",
@@ -170,5 +194,5 @@ if failures:
     print("\n".join(failures))
     sys.exit(1)
 print("mpi run folders identical to the one-process run (2, 3, 4 processes x 1, 2 threads; "
-      "2 -> 3 restart; killed process; blow-up reported as failed; narrow grid refused; bad "
-      "case reported once)")
+      "2 -> 3 restart; killed process; blow-up reported as failed; hazard maps on 2 and 3 "
+      "processes; narrow grid refused; bad case reported once)")

@@ -219,6 +219,26 @@ struct ResultsSpec {
   double stop_speed = 0.5; // m/s
 };
 
+// A horizontal raster (3D): cell (i, j) covers [x0 + i dx, x0 + (i + 1) dx) x
+// [y0 + j dy, y0 + (j + 1) dy) in local metres, i west to east, j south to north; `crs` (WKT,
+// empty if none) and `origin` (the [terrain] origin, added back when written) place it on the map.
+struct MapGrid {
+  double x0 = 0.0, y0 = 0.0, dx = 0.0, dy = 0.0;
+  int nx = 0, ny = 0;
+  std::string crs;
+  std::array<double, 2> origin{};
+  std::size_t cells() const { return static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny); }
+};
+
+// Hazard maps ([maps], 3D): the peak fields of the mapped bodies' moving material on a raster,
+// accumulated every step from release, and their deposit (output/peak_maps.hpp).
+struct MapsSettings {
+  bool enabled = false;
+  std::vector<int> bodies;   // the bodies mapped
+  double moving_speed = 0.1; // m/s: a particle faster than this is moving material
+  MapGrid grid;
+};
+
 struct Case {
   std::string title;
   std::string file; // path of the case file as given
@@ -239,6 +259,7 @@ struct Case {
   std::vector<ProbeSpec> probes;
   OutputSettings output;
   CheckpointSettings checkpoint;
+  MapsSettings maps;
   std::vector<CheckSpec> checks;
   VerifySettings verify;
 };

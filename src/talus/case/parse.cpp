@@ -562,6 +562,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
   read_probes(root, c);
   read_output(root, c);
   read_checkpoint(root, c);
+  read_maps(root, c);
   read_checks(root, c);
   read_verify(root, c);
   root.finish();

@@ -1,5 +1,7 @@
 #include "talus/case/read_outputs.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <fmt/format.h>
 
 namespace talus::case_reading {
@@ -77,6 +79,56 @@ void read_checkpoint(TableReader& root, Case& c) {
     c.checkpoint.keep = rc.integer("keep", 2, 1, 100);
     rc.finish();
   }
+}
+
+// [maps] (3D): the mapped bodies, the speed that counts as moving, and the raster: the DEM of the
+// first mapped body with a terrain top (its grid, extent and coordinate system), or a cell size
+// over the case's grid.
+void read_maps(TableReader& root, Case& c) {
+  const toml::table* t = root.table("maps");
+  if (!t) return;
+  TableReader r(*t, "maps", root.where());
+  MapsSettings& m = c.maps;
+  m.enabled = true;
+  const std::vector<std::string> body_names = names_of(c.bodies);
+  if (!r.has("bodies")) r.fail_missing("bodies");
+  for (const std::string& name : string_list(r, "bodies")) {
+    const auto it = std::find(body_names.begin(), body_names.end(), name);
+    if (it == body_names.end())
+      r.fail("bodies", fmt::format("no body is named '{}'{}", name, suggest(name, body_names)));
+    const int b = static_cast<int>(it - body_names.begin());
+    if (std::find(m.bodies.begin(), m.bodies.end(), b) != m.bodies.end())
+      r.fail("bodies", fmt::format("'{}' is named twice", name));
+    m.bodies.push_back(b);
+  }
+  if (m.bodies.empty()) r.fail("bodies", "name at least one body, e.g. bodies = [\"slide\"]");
+  if (c.simulation.dimension != 3)
+    r.fail("bodies", "maps are rasters of a 3D run's ground plan; a 2D case has none");
+  m.moving_speed = r.number("moving_speed", m.moving_speed);
+  require(r, "moving_speed", m.moving_speed > 0.0, "must be > 0 m/s");
+  // The DEM: the top raster of the first mapped body that has one.
+  std::shared_ptr<const Raster> dem;
+  for (const int b : m.bodies)
+    for (const Geometry& g : c.bodies[b].geometry)
+      if (!dem && g.kind == Geometry::Kind::terrain && g.top.raster) dem = g.top.raster;
+  MapGrid& G = m.grid;
+  G.origin = {c.terrain_origin[0], c.terrain_origin[1]};
+  if (const std::optional<double> h = r.optional_number("cell_size")) {
+    require(r, "cell_size", *h > 0.0, "must be > 0 m");
+    G.x0 = c.grid.origin[0], G.y0 = c.grid.origin[1], G.dx = G.dy = *h;
+    const double nx = std::ceil(c.grid.extent[0] / *h - 1e-9),
+                 ny = std::ceil(c.grid.extent[1] / *h - 1e-9);
+    require(r, "cell_size", nx * ny <= 1e8, "gives more than 1e8 raster cells");
+    G.nx = static_cast<int>(nx), G.ny = static_cast<int>(ny);
+    if (dem) G.crs = dem->crs;
+  } else {
+    if (!dem)
+      r.fail("cell_size", "required: no mapped body has a terrain top raster to take the grid "
+                          "from");
+    G.x0 = dem->x0, G.y0 = dem->y0, G.dx = dem->dx, G.dy = dem->dy;
+    G.nx = dem->nx, G.ny = dem->ny, G.crs = dem->crs;
+  }
+  r.finish();
 }
 
 // [[check]]: verification checks (talus verify).

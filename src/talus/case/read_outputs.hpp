@@ -1,5 +1,5 @@
 // Reading the tables of a case file that say what a run reports: [results], [[probe]],
-// [output], [checkpoint], [[check]] (talus verify) and [verify].
+// [output], [checkpoint], [maps], [[check]] (talus verify) and [verify].
 #pragma once
 
 #include "talus/case/case.hpp"
@@ -11,6 +11,7 @@ void read_results(TableReader& root, Case& c);
 void read_probes(TableReader& root, Case& c);
 void read_output(TableReader& root, Case& c);
 void read_checkpoint(TableReader& root, Case& c);
+void read_maps(TableReader& root, Case& c);
 void read_checks(TableReader& root, Case& c);
 void read_verify(TableReader& root, Case& c);
 

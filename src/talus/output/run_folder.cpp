@@ -56,8 +56,8 @@ bool talus_file(std::string_view name) {
 }
 
 // A regular file in one of talus's sub-folders: the input copies (each named, quoted, in the
-// [[run]] files table of the folder's case.toml, `case_text`), the checkpoints, the plots its
-// tools draw.
+// [[run]] files table of the folder's case.toml, `case_text`), the checkpoints, the maps, the plots
+// its tools draw.
 bool talus_file_in(std::string_view folder, std::string_view name, const std::string& case_text) {
   name = without_temporary(name);
   if (folder == "inputs") {
@@ -66,6 +66,7 @@ bool talus_file_in(std::string_view folder, std::string_view name, const std::st
            case_text.find("\"" + copy + "\"") != std::string::npos;
   }
   if (folder == "checkpoints") return numbered(name, "step_", ".ckpt");
+  if (folder == "maps") return name.ends_with(".tif");
   return name.ends_with(".png") || name.ends_with(".csv") || name.ends_with(".json");
 }
 
@@ -112,7 +113,7 @@ std::vector<std::string> foreign_entries(const std::string& dir) {
     const fs::file_type type = e.symlink_status(ec).type();
     if (type == fs::file_type::regular && talus_file(name)) continue;
     if (type == fs::file_type::directory &&
-        (name == "inputs" || name == "checkpoints" || name == "plots")) {
+        (name == "inputs" || name == "checkpoints" || name == "plots" || name == "maps")) {
       for (const auto& f : fs::directory_iterator(e.path(), ec)) {
         const std::string inner = f.path().filename().string();
         if (f.symlink_status(ec).type() != fs::file_type::regular ||

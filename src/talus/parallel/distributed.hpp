@@ -109,6 +109,7 @@ public:
   void plane_reach(std::int64_t& lo, std::int64_t& hi) const override;
   void sum_disjoint(double* data, std::size_t n) override;
   void sum_exact(ExactSum* sums, std::size_t n) override;
+  void sum_integers(std::int64_t* data, std::size_t n) override;
   void chunk_sums(int b, std::size_t begin, std::size_t end, const double* value,
                   std::int64_t chunk, std::vector<double>& sums) override;
 

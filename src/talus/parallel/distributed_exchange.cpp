@@ -59,6 +59,11 @@ void Distributed<D>::sum_exact(ExactSum* sums, std::size_t n) {
   }
 }
 
+template <int D>
+void Distributed<D>::sum_integers(std::int64_t* data, std::size_t n) {
+  MPI_Allreduce(MPI_IN_PLACE, data, static_cast<int>(n), MPI_INT64_T, MPI_SUM, comm_);
+}
+
 // A chunk whose particles are all here is summed here; one split between processes has each
 // particle's value sent to its place in the chunk, and every process sums it in index order.
 template <int D>

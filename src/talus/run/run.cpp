@@ -5,6 +5,7 @@
 #include "talus/core/threads.hpp"
 #include "talus/output/checkpoint.hpp"
 #include "talus/output/frame_totals.hpp"
+#include "talus/output/peak_maps.hpp"
 #include "talus/output/progress.hpp"
 #include "talus/output/results_monitor.hpp"
 #include "talus/output/run_writer.hpp"
@@ -163,6 +164,7 @@ public:
       tables.serialize(ar);
     }
     monitor_->serialize(ar);
+    if (maps_) maps_->serialize(ar);
   }
 
 private:
@@ -176,6 +178,7 @@ private:
       if (!writer_) writer_.emplace(opt_.out_dir, sim_, ids);
     });
     if (!monitor_) monitor_.emplace(sim_, std::move(ids), totals);
+    if (c_.maps.enabled && !maps_) maps_.emplace(c_, sim_);
   }
 
   // A row in every CSV (forces as time means since the previous row) and a frame. A kinetic
@@ -206,6 +209,10 @@ private:
         throw;
       }
     });
+    if (maps_) { // the peak fields so far and the deposit now
+      const std::vector<double> deposit = maps_->deposit(sim_);
+      on_rank_zero([&] { maps_->write(sim_, opt_.out_dir, deposit); });
+    }
     sim_.reset_force_means();
     write_running_summary(&totals);
   }
@@ -308,6 +315,7 @@ private:
       const double next_output = std::min(end, every * static_cast<double>(frame_));
       timed_step(next_output - sim_.time(), end);
       monitor_->update(monitor_->figures(sim_), sim_.time(), c_.results.stop_speed);
+      if (maps_) maps_->accumulate(sim_, sim_.time());
       if (sim_.time() >= next_output - 1e-12 * end) {
         write_frame();
         ++frame_;
@@ -449,6 +457,7 @@ private:
   bool root_;                           // rank 0: the process that writes the run folder
   std::optional<RunWriter<D>> writer_;
   std::optional<ResultsMonitor<D>> monitor_;
+  std::optional<PeakMaps<D>> maps_; // [maps]: every process (its sums are collective)
   double settle_ke_ = 0.0;
   double stepping_ = 0.0; // wall seconds inside step(), settling included
   std::int64_t frame_ = 1;

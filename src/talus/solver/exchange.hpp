@@ -34,6 +34,9 @@ public:
   virtual void sum_disjoint(double* data, std::size_t n) = 0;
   // sums[i] <- the sum over the processes of every process's sums[i]: exact, so in any order.
   virtual void sum_exact(ExactSum* sums, std::size_t n) = 0;
+  // data[i] <- the sum over the processes of every process's data[i]: integers, so exact in any
+  // order (the caller keeps the totals within 63 bits).
+  virtual void sum_integers(std::int64_t* data, std::size_t n) = 0;
   // The sums of `value` (one per local particle of body b, local indices [begin, end)) over
   // chunks of `chunk` consecutive global indices of the body, each summed in index order from 0:
   // the same chunk sums one process forms. Only this process's own particles count.

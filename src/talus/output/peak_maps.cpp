@@ -1,0 +1,234 @@
+#include "talus/output/peak_maps.hpp"
+
+#include "talus/output/files.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cpl_string.h>
+#include <cpl_vsi.h>
+#include <fmt/format.h>
+#include <gdal_priv.h>
+#include <limits>
+#include <mutex>
+
+namespace talus {
+
+namespace {
+
+constexpr double no_data = -9999.0;
+
+// The smallest shift s with bound * 2^s below 2^62: sums of values up to `bound` in total, each
+// rounded to 2^-s, stay within an int64 with room for the rounding.
+int fixed_point_shift(double bound) {
+  return 62 - static_cast<int>(std::ceil(std::log2(std::max(bound, 1e-300))));
+}
+
+std::int64_t fixed(double value, int shift) {
+  return std::llround(std::ldexp(value, shift));
+}
+
+double unfixed(std::int64_t value, int shift) {
+  return std::ldexp(static_cast<double>(value), -shift);
+}
+
+} // namespace
+
+void write_geotiff(const std::string& path, const MapGrid& grid,
+                   const std::vector<MapLayer>& layers,
+                   const std::vector<std::pair<std::string, std::string>>& metadata) {
+  static std::once_flag registered;
+  std::call_once(registered, [] { GDALAllRegister(); });
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
+  if (!driver) throw OutputError(fmt::format("{}: GDAL has no GeoTIFF driver", path));
+  // Written in memory, then into the run folder atomically (GDAL's own file writing would
+  // bypass the folder's anchor and leave a half-written file if the run were killed).
+  static std::atomic<int> serial{0};
+  const std::string mem = fmt::format("/vsimem/talus_map_{}.tif", serial++);
+  CPLStringList options;
+  options.SetNameValue("COMPRESS", "DEFLATE");
+  options.SetNameValue("PREDICTOR", "3");
+  {
+    GDALDatasetUniquePtr ds(driver->Create(mem.c_str(), grid.nx, grid.ny,
+                                           static_cast<int>(layers.size()), GDT_Float32,
+                                           options.List()));
+    if (!ds) throw OutputError(fmt::format("{}: GDAL cannot make the GeoTIFF", path));
+    // North-up: the first row is the northern one; the [terrain] origin added back.
+    double gt[6] = {grid.x0 + grid.origin[0],
+                    grid.dx,
+                    0.0,
+                    grid.y0 + grid.ny * grid.dy + grid.origin[1],
+                    0.0,
+                    -grid.dy};
+    ds->SetGeoTransform(gt);
+    if (!grid.crs.empty()) ds->SetProjection(grid.crs.c_str());
+    for (const auto& [key, value] : metadata)
+      ds->SetMetadataItem(key.c_str(), value.c_str());
+    std::vector<float> rows(grid.cells());
+    for (std::size_t k = 0; k < layers.size(); ++k) {
+      const MapLayer& L = layers[k];
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i) {
+          const double v = L.values[static_cast<std::size_t>(j) * grid.nx + i];
+          rows[static_cast<std::size_t>(grid.ny - 1 - j) * grid.nx + i] =
+              static_cast<float>(std::isnan(v) ? no_data : v);
+        }
+      GDALRasterBand* band = ds->GetRasterBand(static_cast<int>(k) + 1);
+      band->SetNoDataValue(no_data);
+      band->SetDescription(L.name.c_str());
+      band->SetUnitType(L.unit.c_str());
+      band->SetMetadataItem("DESCRIPTION", L.description.c_str());
+      if (band->RasterIO(GF_Write, 0, 0, grid.nx, grid.ny, rows.data(), grid.nx, grid.ny,
+                         GDT_Float32, 0, 0) != CE_None)
+        throw OutputError(fmt::format("{}: GDAL cannot write band {}", path, k + 1));
+    }
+  }
+  vsi_l_offset size = 0;
+  GByte* bytes = VSIGetMemFileBuffer(mem.c_str(), &size, TRUE);
+  if (!bytes) throw OutputError(fmt::format("{}: GDAL made no GeoTIFF", path));
+  try {
+    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes), size));
+  } catch (...) {
+    CPLFree(bytes);
+    throw;
+  }
+  CPLFree(bytes);
+}
+
+template <int D>
+PeakMaps<D>::PeakMaps(const Case& c, const Simulation<D>& sim) : settings_(c.maps) {
+  const std::size_t n = settings_.grid.cells();
+  mapped_.assign(static_cast<std::size_t>(sim.num_bodies()), 0);
+  double mass = 0.0;
+  for (const int b : settings_.bodies)
+    mapped_[b] = 1, mass += sim.setup().bodies[b].mass;
+  // Bounds of the sums: the grid's volume (particles stretch to at most a few times their own),
+  // the mapped bodies' mass times the largest speed.
+  double volume = 1.0;
+  for (int d = 0; d < D; ++d)
+    volume *= c.grid.extent[d];
+  volume_shift_ = fixed_point_shift(8.0 * volume);
+  mass_shift_ = fixed_point_shift(2.0 * mass * max_speed);
+  sums_.assign(n * (2 + D), 0);
+  thickness_.assign(n, 0.0), speed_.assign(n, 0.0), energy_.assign(n, 0.0);
+  pressure_.assign(n, 0.0), arrival_.assign(n, std::numeric_limits<double>::quiet_NaN());
+}
+
+template <int D>
+std::int64_t PeakMaps<D>::cell_of(const Vec<D>& x) const {
+  const MapGrid& G = settings_.grid;
+  const double fi = std::floor((x[0] - G.x0) / G.dx), fj = std::floor((x[1] - G.y0) / G.dy);
+  if (!(fi >= 0.0 && fi < G.nx && fj >= 0.0 && fj < G.ny)) return -1;
+  return static_cast<std::int64_t>(fj) * G.nx + static_cast<std::int64_t>(fi);
+}
+
+template <int D>
+void PeakMaps<D>::accumulate(const Simulation<D>& sim, double time) {
+  const auto& P = sim.particles();
+  constexpr int S = 2 + D;
+  std::fill(sums_.begin(), sums_.end(), 0);
+  for (int b = 0; b < sim.num_bodies(); ++b) {
+    if (!mapped_[b]) continue;
+    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
+      if (!sim.is_own(p)) continue;
+      const double speed = P.v[p].norm();
+      if (!(speed > settings_.moving_speed)) continue;
+      if (!(speed < max_speed))
+        throw SimulationError(fmt::format(
+            "step {}, time {:.6g} s: particle {} moves at {:.4g} m/s, faster than the {} m/s "
+            "that the maps' sums hold: a speed out of any physical range",
+            sim.steps(), time, P.id[p], speed, max_speed));
+      const std::int64_t c = cell_of(P.x[p]);
+      if (c < 0) continue;
+      std::int64_t* s = sums_.data() + c * S;
+      bool overflow = __builtin_add_overflow(s[0], fixed(P.vol[p], volume_shift_), &s[0]);
+      overflow |= __builtin_add_overflow(s[1], fixed(P.m[p], mass_shift_), &s[1]);
+      for (int d = 0; d < D; ++d)
+        overflow |=
+            __builtin_add_overflow(s[2 + d], fixed(P.m[p] * P.v[p][d], mass_shift_), &s[2 + d]);
+      if (overflow)
+        throw SimulationError(fmt::format(
+            "step {}, time {:.6g} s: particle {}: the maps' cell sums overflow (the mapped "
+            "bodies' volume is many times the grid's): a volume out of any physical range",
+            sim.steps(), time, P.id[p]));
+    }
+  }
+  if (Exchange* ex = sim.exchange()) ex->sum_integers(sums_.data(), sums_.size());
+  const MapGrid& G = settings_.grid;
+  const double area = G.dx * G.dy;
+  for (std::size_t c = 0; c < G.cells(); ++c) {
+    const std::int64_t* s = sums_.data() + c * S;
+    if (s[0] <= 0 || s[1] <= 0) continue;
+    const double V = unfixed(s[0], volume_shift_), m = unfixed(s[1], mass_shift_);
+    Vec<D> mv;
+    for (int d = 0; d < D; ++d)
+      mv[d] = unfixed(s[2 + d], mass_shift_);
+    const double u = mv.norm() / m;
+    thickness_[c] = std::max(thickness_[c], V / area);
+    speed_[c] = std::max(speed_[c], u);
+    energy_[c] = std::max(energy_[c], 0.5 * m * u * u / area);
+    pressure_[c] = std::max(pressure_[c], m / V * u * u);
+    if (std::isnan(arrival_[c])) arrival_[c] = time;
+  }
+}
+
+template <int D>
+std::vector<double> PeakMaps<D>::deposit(const Simulation<D>& sim) {
+  const auto& P = sim.particles();
+  std::vector<std::int64_t> volume(settings_.grid.cells(), 0);
+  for (int b = 0; b < sim.num_bodies(); ++b) {
+    if (!mapped_[b]) continue;
+    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
+      if (sim.is_own(p))
+        if (const std::int64_t c = cell_of(P.x[p]);
+            c >= 0 && __builtin_add_overflow(volume[c], fixed(P.vol[p], volume_shift_), &volume[c]))
+          throw SimulationError(fmt::format(
+              "step {}, time {:.6g} s: particle {}: the maps' cell sums overflow (the mapped "
+              "bodies' volume is many times the grid's): a volume out of any physical range",
+              sim.steps(), sim.time(), P.id[p]));
+  }
+  if (Exchange* ex = sim.exchange()) ex->sum_integers(volume.data(), volume.size());
+  const double area = settings_.grid.dx * settings_.grid.dy;
+  std::vector<double> h(volume.size());
+  for (std::size_t c = 0; c < volume.size(); ++c)
+    h[c] = unfixed(volume[c], volume_shift_) / area;
+  return h;
+}
+
+template <int D>
+void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
+                        const std::vector<double>& h) const {
+  const MapsSettings& M = settings_;
+  std::string bodies;
+  for (const int b : M.bodies)
+    bodies += (bodies.empty() ? "" : ", ") + sim.case_().bodies[b].name;
+  const std::vector<std::pair<std::string, std::string>> meta = {
+      {"TALUS_BODIES", bodies},
+      {"TALUS_MOVING_SPEED_M_S", fmt::format("{}", M.moving_speed)},
+      {"TALUS_TIME_S", fmt::format("{:.9g}", sim.time())}};
+  const std::string dir = folder + "/maps";
+  make_folder(dir);
+  const std::string moving = fmt::format("of material moving faster than {} m/s", M.moving_speed);
+  auto one = [&](const std::string& file, MapLayer layer) {
+    write_geotiff(dir + "/" + file, M.grid, {std::move(layer)}, meta);
+  };
+  one("peak_thickness.tif", {"peak_thickness", "m", "largest thickness " + moving, thickness_});
+  one("peak_speed.tif", {"peak_speed", "m/s", "largest depth-averaged speed " + moving, speed_});
+  one("peak_kinetic_energy.tif",
+      {"peak_kinetic_energy", "J/m^2", "largest kinetic energy per unit area " + moving, energy_});
+  one("peak_pressure.tif",
+      {"peak_pressure", "Pa", "largest dynamic pressure rho u^2 " + moving, pressure_});
+  one("arrival_time.tif",
+      {"arrival_time", "s",
+       fmt::format("first time after release that material moving faster than {} m/s covers "
+                   "the cell (no data: never)",
+                   M.moving_speed),
+       arrival_});
+  one("deposit_thickness.tif",
+      {"deposit_thickness", "m", "the mapped bodies' thickness at the time written", h});
+}
+
+template class PeakMaps<2>;
+template class PeakMaps<3>;
+
+} // namespace talus

@@ -1,0 +1,77 @@
+// Hazard maps ([maps], docs/case-file.md): the peak fields of the mapped bodies' moving material
+// on a horizontal raster, accumulated every step from release, and their deposit; written as
+// GeoTIFFs into the run folder's maps/.
+//
+// Each step, the moving particles (|v| > moving_speed) of each raster cell give its column's
+// volume V, mass m and momentum m v, and from them
+//   thickness h = V / A,  depth-averaged speed u = |sum m v| / sum m,
+//   kinetic energy per unit area e = m u^2 / (2 A),  dynamic pressure rho u^2, rho = m / V
+// (A: the cell's area), whose largest values over the run are kept, with the arrival time (the
+// first time h > 0). The deposit thickness is the mapped bodies' whole volume per cell at the
+// time written. The cell sums are fixed-point integers (2^-s units), so they are the same bits
+// in any order: on any number of threads and processes.
+#pragma once
+
+#include "talus/case/case.hpp"
+#include "talus/solver/simulation.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+// One raster per band of a map file: its name, unit and values (nx * ny, row j at j * nx, south
+// to north; NaN: no data).
+struct MapLayer {
+  std::string name, unit, description;
+  std::vector<double> values;
+};
+
+// Writes `layers` as a GeoTIFF at `path` (atomically, through the run folder's anchor): one
+// Float32 band each, DEFLATE-compressed, no-data -9999, the grid's georeferencing (its origin
+// added back) and coordinate system, `metadata` as key=value items. Throws OutputError.
+void write_geotiff(const std::string& path, const MapGrid& grid,
+                   const std::vector<MapLayer>& layers,
+                   const std::vector<std::pair<std::string, std::string>>& metadata);
+
+template <int D>
+class PeakMaps {
+public:
+  // The largest speed the fixed-point momentum sums hold; a faster mapped particle stops the run.
+  static constexpr double max_speed = 4096.0;
+
+  PeakMaps(const Case& c, const Simulation<D>& sim);
+
+  // One step's cell sums of the moving material (collective on several processes), and the peak
+  // fields and arrival times updated with them at `time`.
+  void accumulate(const Simulation<D>& sim, double time);
+  // The maps written into `folder`/maps, with `deposit` (deposit(sim)) as the deposit thickness.
+  void write(const Simulation<D>& sim, const std::string& folder,
+             const std::vector<double>& deposit) const;
+
+  const std::vector<double>& peak_thickness() const { return thickness_; }
+  const std::vector<double>& peak_speed() const { return speed_; }
+  const std::vector<double>& peak_energy() const { return energy_; }
+  const std::vector<double>& peak_pressure() const { return pressure_; }
+  const std::vector<double>& arrival() const { return arrival_; }
+  // The mapped bodies' volume per unit area in each cell now (collective).
+  std::vector<double> deposit(const Simulation<D>& sim);
+
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.io(thickness_), ar.io(speed_), ar.io(energy_), ar.io(pressure_), ar.io(arrival_);
+  }
+
+private:
+  // The raster cell of a point, or -1 outside the raster.
+  std::int64_t cell_of(const Vec<D>& x) const;
+
+  MapsSettings settings_;
+  std::vector<char> mapped_;              // per body
+  int volume_shift_ = 0, mass_shift_ = 0; // fixed point: value * 2^shift, rounded
+  std::vector<std::int64_t> sums_;        // per cell: V, m, then m v (D components)
+  std::vector<double> thickness_, speed_, energy_, pressure_, arrival_;
+};
+
+} // namespace talus

@@ -1,0 +1,230 @@
+// Hazard maps ([maps], output/peak_maps.hpp): a block gliding at a known speed over a level floor
+// gives its closed-form thickness, speed, kinetic energy, dynamic pressure and arrival times; the
+// maps are the same bits on 1 and 2 threads and across a restart; the GeoTIFFs carry the grid,
+// the coordinate system, the units and no data where nothing came; bad [maps] tables are named.
+#include "talus/case/parse.hpp"
+#include "talus/output/peak_maps.hpp"
+#include "talus/run/run.hpp"
+#include "test_support.hpp"
+
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+#include <iterator>
+#include <ogr_spatialref.h>
+#include <omp.h>
+
+namespace talus {
+namespace {
+
+constexpr double density = 2000.0, speed = 2.0, height = 0.5;
+
+// A block 1 m x 1 m x 0.5 m (2000 kg/m^3) gliding along x at 2 m/s with no gravity, in a grid of
+// 0.25 m cells (2 particles per cell and direction: 0.125 m apart); maps on 0.5 m cells.
+std::string gliding_block(const std::string& extra = "") {
+  return R"(
+[simulation]
+dimension = 3
+end_time = 1.0
+gravity = [0.0, 0.0, 0.0]
+[grid]
+extent = [5.0, 2.0, 1.0]
+cell_size = 0.25
+[[material]]
+name = "m"
+density = 2000.0
+youngs_modulus = 1e7
+poisson_ratio = 0.3
+[[body]]
+name = "block"
+material = "m"
+box = { min = [0.5, 0.5, 0.25], max = [1.5, 1.5, 0.75] }
+velocity = [2.0, 0.0, 0.0]
+[maps]
+bodies = ["block"]
+cell_size = 0.5
+moving_speed = 0.5
+)" + extra;
+}
+
+template <class T>
+std::vector<T> run_maps(const Case& c, int threads, double until) {
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  Simulation<3> sim(c);
+  PeakMaps<3> maps(c, sim);
+  while (sim.time() < until - 1e-12) {
+    sim.step(until - sim.time());
+    maps.accumulate(sim, sim.time());
+  }
+  omp_set_num_threads(before);
+  std::vector<T> all;
+  for (const auto* v : {&maps.peak_thickness(), &maps.peak_speed(), &maps.peak_energy(),
+                        &maps.peak_pressure(), &maps.arrival()})
+    all.insert(all.end(), v->begin(), v->end());
+  const std::vector<double> h = maps.deposit(sim);
+  all.insert(all.end(), h.begin(), h.end());
+  return all;
+}
+
+// Cell (i, j) of the 10 x 4 map (0.5 m cells); the block covers x 0.5-1.5 m at first and moves
+// 1 m in 0.5 s, so after 0.5 s cells i 1-4 (x 0.5-2.5 m), j 1-2 (y 0.5-1.5 m) have seen it.
+TEST(PeakMaps, AGlidingBlockGivesItsClosedForms) {
+  const Case c = test::case_from(gliding_block());
+  const double until = 0.5;
+  const std::vector<double> all = run_maps<double>(c, 1, until);
+  const std::size_t n = 40;
+  auto at = [&](int field, int i, int j) { return all[field * n + j * 10 + i]; };
+  for (int j = 1; j <= 2; ++j)
+    for (int i = 1; i <= 4; ++i) {
+      // The block's whole height passes over each cell, at its speed: h = 0.5 m, u = 2 m/s,
+      // e = rho h u^2 / 2 = 2000 J/m^2, rho u^2 = 8000 Pa (the elastic block barely deforms).
+      EXPECT_NEAR(at(0, i, j), height, 1e-3 * height) << i << ", " << j;
+      EXPECT_NEAR(at(1, i, j), speed, 1e-6 * speed) << i << ", " << j;
+      EXPECT_NEAR(at(2, i, j), 0.5 * density * height * speed * speed, 2.0) << i << ", " << j;
+      EXPECT_NEAR(at(3, i, j), density * speed * speed, 8.0) << i << ", " << j;
+      // Arrival: the first step for the cells under the block; ahead of it, when its leading
+      // particles (0.0625 m behind the front at x = 1.5 m) cross the cell's west edge.
+      const double edge = 0.5 * i, lead = 1.5 - 0.0625;
+      const double expected = edge < lead ? 0.0 : (edge - lead) / speed;
+      EXPECT_NEAR(at(4, i, j), expected, 0.01) << i << ", " << j;
+    }
+  // Nothing reached the cells beside the block's path or ahead of where it is now.
+  EXPECT_EQ(at(0, 1, 0), 0.0);
+  EXPECT_EQ(at(0, 6, 1), 0.0);
+  EXPECT_TRUE(std::isnan(at(4, 6, 1)));
+  // The deposit now: the block over x 1.5-2.5 m.
+  EXPECT_NEAR(at(5, 3, 1), height, 1e-3 * height);
+  EXPECT_EQ(at(5, 1, 1), 0.0);
+}
+
+TEST(PeakMaps, TheSameBitsOnOneAndTwoThreads) {
+  const Case c = test::case_from(gliding_block());
+  const std::vector<double> one = run_maps<double>(c, 1, 0.3), two = run_maps<double>(c, 2, 0.3);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t k = 0; k < one.size(); ++k)
+    ASSERT_TRUE(one[k] == two[k] || (std::isnan(one[k]) && std::isnan(two[k]))) << k;
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+const char* const map_files[] = {"peak_thickness.tif",      "peak_speed.tif",
+                                 "peak_kinetic_energy.tif", "peak_pressure.tif",
+                                 "arrival_time.tif",        "deposit_thickness.tif"};
+
+// A run stopped by SIGTERM after a checkpoint and restarted writes the same maps, byte for byte,
+// as one that ran through: the peak fields and arrival times are in the checkpoint.
+TEST(PeakMaps, ARestartContinuesThem) {
+  const Case c = test::case_from(gliding_block(R"(
+[output]
+every = 0.1
+[checkpoint]
+every = 0.2
+wall_minutes = 0
+)"));
+  RunOptions whole;
+  whole.out_dir = test::temp_dir("maps_whole");
+  whole.threads = 1;
+  ASSERT_EQ(run_case(c, whole).status, "completed");
+  RunOptions part = whole;
+  part.out_dir = test::temp_dir("maps_restarted");
+  part.inject_signal = SIGTERM;
+  part.inject_signal_step = 30;
+  ASSERT_EQ(run_case(c, part).status, "interrupted");
+  part.inject_signal_step = -1;
+  part.threads = 2;
+  ASSERT_EQ(restart_run(part).status, "completed");
+  for (const char* f : map_files) {
+    const std::string a = file_bytes(whole.out_dir + "/maps/" + f);
+    EXPECT_FALSE(a.empty()) << f;
+    EXPECT_EQ(a, file_bytes(part.out_dir + "/maps/" + f)) << f;
+  }
+}
+
+// The GeoTIFF: the grid with its origin added back, north up, the coordinate system, units,
+// band names and no data (-9999) where a value is NaN.
+TEST(PeakMaps, TheGeoTiffCarriesTheGridAndUnits) {
+  MapGrid g;
+  g.x0 = 10.0, g.y0 = 20.0, g.dx = 5.0, g.dy = 5.0, g.nx = 3, g.ny = 2;
+  g.origin = {500000.0, 5000000.0};
+  OGRSpatialReference srs;
+  srs.importFromEPSG(32632); // UTM 32N
+  char* wkt = nullptr;
+  srs.exportToWkt(&wkt);
+  g.crs = wkt;
+  CPLFree(wkt);
+  const std::string dir = test::temp_dir("maps_tiff");
+  MapLayer L{"peak_speed", "m/s", "largest speed", {0.0, 1.0, 2.0, 3.0, 4.0, std::nan("")}};
+  write_geotiff(dir + "/m.tif", g, {L}, {{"TALUS_BODIES", "slide"}});
+  GDALDatasetUniquePtr ds(GDALDataset::Open((dir + "/m.tif").c_str(), GDAL_OF_RASTER));
+  ASSERT_TRUE(ds);
+  double gt[6];
+  ASSERT_EQ(ds->GetGeoTransform(gt), CE_None);
+  EXPECT_EQ(gt[0], 500010.0);
+  EXPECT_EQ(gt[3], 5000030.0); // the northern edge: y0 + ny dy + origin
+  EXPECT_EQ(gt[1], 5.0);
+  EXPECT_EQ(gt[5], -5.0);
+  ASSERT_TRUE(ds->GetSpatialRef());
+  EXPECT_TRUE(ds->GetSpatialRef()->IsSame(&srs));
+  EXPECT_STREQ(ds->GetMetadataItem("TALUS_BODIES"), "slide");
+  GDALRasterBand* band = ds->GetRasterBand(1);
+  EXPECT_STREQ(band->GetUnitType(), "m/s");
+  EXPECT_STREQ(band->GetDescription(), "peak_speed");
+  int has = 0;
+  EXPECT_EQ(band->GetNoDataValue(&has), -9999.0);
+  EXPECT_TRUE(has);
+  float rows[6];
+  ASSERT_EQ(band->RasterIO(GF_Read, 0, 0, 3, 2, rows, 3, 2, GDT_Float32, 0, 0), CE_None);
+  // Row 0 is the north row (j = 1): 3, 4, no data; then j = 0: 0, 1, 2.
+  EXPECT_EQ(rows[0], 3.0f);
+  EXPECT_EQ(rows[1], 4.0f);
+  EXPECT_EQ(rows[2], -9999.0f);
+  EXPECT_EQ(rows[3], 0.0f);
+  EXPECT_EQ(rows[5], 2.0f);
+}
+
+// Bad [maps] tables: the file, the line and the key named.
+TEST(PeakMaps, BadTablesAreNamed) {
+  auto error = [](const std::string& maps, int dimension = 3) {
+    std::string text = gliding_block();
+    text = text.substr(0, text.find("[maps]")) + maps;
+    if (dimension == 2) {
+      text.replace(text.find("dimension = 3"), 13, "dimension = 2");
+      text.replace(text.find("[0.0, 0.0, 0.0]"), 15, "[0.0, 0.0]");
+      text.replace(text.find("[5.0, 2.0, 1.0]"), 15, "[5.0, 2.0]");
+      text.replace(text.find("[0.5, 0.5, 0.25]"), 16, "[0.5, 0.5]");
+      text.replace(text.find("[1.5, 1.5, 0.75]"), 16, "[1.5, 1.5]");
+      text.replace(text.find("[2.0, 0.0, 0.0]"), 15, "[2.0, 0.0]");
+    }
+    try {
+      test::case_from(text);
+    } catch (const CaseError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("[maps]\ncell_size = 1.0\n").find("maps.bodies: required key is missing"),
+            std::string::npos);
+  EXPECT_NE(error("[maps]\nbodies = [\"blok\"]\ncell_size = 1.0\n")
+                .find("maps.bodies: no body is named 'blok' (did you mean 'block'?)"),
+            std::string::npos);
+  EXPECT_NE(error("[maps]\nbodies = [\"block\"]\n")
+                .find("maps.cell_size: required: no mapped body has a terrain top raster"),
+            std::string::npos);
+  EXPECT_NE(error("[maps]\nbodies = [\"block\"]\ncell_size = -1.0\n").find("inline.toml:"),
+            std::string::npos);
+  EXPECT_NE(error("[maps]\nbodies = [\"block\"]\ncell_size = 1.0\nmoving_speed = 0.0\n")
+                .find("maps.moving_speed: must be > 0"),
+            std::string::npos);
+  EXPECT_NE(error("[maps]\nbodies = [\"block\"]\ncell_size = 1.0\n", 2).find("a 2D case"),
+            std::string::npos);
+}
+
+} // namespace
+} // namespace talus
