@@ -11,6 +11,7 @@ packages=(
   libgdal-dev                    # terrain rasters and footprints (GeoTIFF, ESRI ASCII, GeoJSON, shapefile)
   python3-numpy python3-matplotlib python3-meshio
   python3-vtk9                   # VTK's own reader, in the run-folder test
+  python3-rasterio               # the hazard maps' GeoTIFFs: their test and tools/plot_maps.py
   chromium                       # the verification report's browser test
   libopenmpi-dev openmpi-bin     # the mpi preset: domain decomposition over processes
 )

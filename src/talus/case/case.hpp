@@ -237,6 +237,8 @@ struct MapsSettings {
   std::vector<int> bodies;   // the bodies mapped
   double moving_speed = 0.1; // m/s: a particle faster than this is moving material
   MapGrid grid;
+  std::shared_ptr<const Raster> dem; // the ground drawn under the maps (elevation.tif), if any
+  double origin_z = 0.0;             // the [terrain] origin's z, added back to the ground
 };
 
 struct Case {

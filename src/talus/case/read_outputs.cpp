@@ -113,6 +113,7 @@ void read_maps(TableReader& root, Case& c) {
       if (!dem && g.kind == Geometry::Kind::terrain && g.top.raster) dem = g.top.raster;
   MapGrid& G = m.grid;
   G.origin = {c.terrain_origin[0], c.terrain_origin[1]};
+  m.dem = dem, m.origin_z = c.terrain_origin[2];
   if (const std::optional<double> h = r.optional_number("cell_size")) {
     require(r, "cell_size", *h > 0.0, "must be > 0 m");
     G.x0 = c.grid.origin[0], G.y0 = c.grid.origin[1], G.dx = G.dy = *h;

@@ -112,6 +112,7 @@ PeakMaps<D>::PeakMaps(const Case& c, const Simulation<D>& sim) : settings_(c.map
   sums_.assign(n * (2 + D), 0);
   thickness_.assign(n, 0.0), speed_.assign(n, 0.0), energy_.assign(n, 0.0);
   pressure_.assign(n, 0.0), arrival_.assign(n, std::numeric_limits<double>::quiet_NaN());
+  release_ = deposit(sim);
 }
 
 template <int D>
@@ -226,6 +227,17 @@ void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
        arrival_});
   one("deposit_thickness.tif",
       {"deposit_thickness", "m", "the mapped bodies' thickness at the time written", h});
+  one("release_thickness.tif",
+      {"release_thickness", "m", "the mapped bodies' thickness at release", release_});
+  if (M.dem) { // the ground at each cell's centre (bilinear), for the pictures' hillshade
+    const MapGrid& G = M.grid;
+    std::vector<double> z(G.cells());
+    for (int j = 0; j < G.ny; ++j)
+      for (int i = 0; i < G.nx; ++i)
+        z[static_cast<std::size_t>(j) * G.nx + i] =
+            M.dem->elevation(G.x0 + (i + 0.5) * G.dx, G.y0 + (j + 0.5) * G.dy) + M.origin_z;
+    one("elevation.tif", {"elevation", "m", "the ground (the DEM the maps are on)", z});
+  }
 }
 
 template class PeakMaps<2>;

@@ -8,8 +8,10 @@
 //   kinetic energy per unit area e = m u^2 / (2 A),  dynamic pressure rho u^2, rho = m / V
 // (A: the cell's area), whose largest values over the run are kept, with the arrival time (the
 // first time h > 0). The deposit thickness is the mapped bodies' whole volume per cell at the
-// time written. The cell sums are fixed-point integers (2^-s units), so they are the same bits
-// in any order: on any number of threads and processes.
+// time written, the release thickness the same at release; the ground (the DEM, if the maps
+// have one) is written beside them for the pictures (tools/plot_maps.py). The cell sums are
+// fixed-point integers (2^-s units), so they are the same bits in any order: on any number of
+// threads and processes.
 #pragma once
 
 #include "talus/case/case.hpp"
@@ -41,6 +43,7 @@ public:
   // The largest speed the fixed-point momentum sums hold; a faster mapped particle stops the run.
   static constexpr double max_speed = 4096.0;
 
+  // At release: the release thickness is the state's deposit (collective).
   PeakMaps(const Case& c, const Simulation<D>& sim);
 
   // One step's cell sums of the moving material (collective on several processes), and the peak
@@ -55,12 +58,15 @@ public:
   const std::vector<double>& peak_energy() const { return energy_; }
   const std::vector<double>& peak_pressure() const { return pressure_; }
   const std::vector<double>& arrival() const { return arrival_; }
+  // The mapped bodies' thickness at release (the release area: where it is > 0).
+  const std::vector<double>& release_thickness() const { return release_; }
   // The mapped bodies' volume per unit area in each cell now (collective).
   std::vector<double> deposit(const Simulation<D>& sim);
 
   template <class Ar>
   void serialize(Ar& ar) {
     ar.io(thickness_), ar.io(speed_), ar.io(energy_), ar.io(pressure_), ar.io(arrival_);
+    ar.io(release_);
   }
 
 private:
@@ -71,7 +77,7 @@ private:
   std::vector<char> mapped_;              // per body
   int volume_shift_ = 0, mass_shift_ = 0; // fixed point: value * 2^shift, rounded
   std::vector<std::int64_t> sums_;        // per cell: V, m, then m v (D components)
-  std::vector<double> thickness_, speed_, energy_, pressure_, arrival_;
+  std::vector<double> thickness_, speed_, energy_, pressure_, arrival_, release_;
 };
 
 } // namespace talus

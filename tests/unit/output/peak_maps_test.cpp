@@ -63,7 +63,7 @@ std::vector<T> run_maps(const Case& c, int threads, double until) {
   omp_set_num_threads(before);
   std::vector<T> all;
   for (const auto* v : {&maps.peak_thickness(), &maps.peak_speed(), &maps.peak_energy(),
-                        &maps.peak_pressure(), &maps.arrival()})
+                        &maps.peak_pressure(), &maps.arrival(), &maps.release_thickness()})
     all.insert(all.end(), v->begin(), v->end());
   const std::vector<double> h = maps.deposit(sim);
   all.insert(all.end(), h.begin(), h.end());
@@ -96,9 +96,11 @@ TEST(PeakMaps, AGlidingBlockGivesItsClosedForms) {
   EXPECT_EQ(at(0, 1, 0), 0.0);
   EXPECT_EQ(at(0, 6, 1), 0.0);
   EXPECT_TRUE(std::isnan(at(4, 6, 1)));
-  // The deposit now: the block over x 1.5-2.5 m.
-  EXPECT_NEAR(at(5, 3, 1), height, 1e-3 * height);
-  EXPECT_EQ(at(5, 1, 1), 0.0);
+  // The release area: the block over x 0.5-1.5 m at the start; the deposit now over 1.5-2.5 m.
+  EXPECT_NEAR(at(5, 1, 1), height, 1e-9);
+  EXPECT_EQ(at(5, 3, 1), 0.0);
+  EXPECT_NEAR(at(6, 3, 1), height, 1e-3 * height);
+  EXPECT_EQ(at(6, 1, 1), 0.0);
 }
 
 TEST(PeakMaps, TheSameBitsOnOneAndTwoThreads) {
@@ -114,9 +116,9 @@ std::string file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-const char* const map_files[] = {"peak_thickness.tif",      "peak_speed.tif",
-                                 "peak_kinetic_energy.tif", "peak_pressure.tif",
-                                 "arrival_time.tif",        "deposit_thickness.tif"};
+const char* const map_files[] = {
+    "peak_thickness.tif", "peak_speed.tif",        "peak_kinetic_energy.tif", "peak_pressure.tif",
+    "arrival_time.tif",   "deposit_thickness.tif", "release_thickness.tif"};
 
 // A run stopped by SIGTERM after a checkpoint and restarted writes the same maps, byte for byte,
 // as one that ran through: the peak fields and arrival times are in the checkpoint.

@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""Hazard maps end to end: the volcano slide (a real DEM) run with its [maps] table writes its
+GeoTIFFs on the DEM's grid, which rasterio (GDAL underneath, as QGIS) reads with the DEM's
+georeferencing, units and no data; the fields are consistent with each other (a cell has a speed
+and an arrival time where, and only where, moving material passed; the pressure is rho u^2 with
+rho between the slide's density and its loosened state; the release area lies inside the
+reached cells); and tools/plot_maps.py draws every field.
+
+Usage: maps_test.py TALUS SOURCE_DIR WORK_DIR
+"""
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import rasterio
+
+talus, source, work = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
+shutil.rmtree(work, ignore_errors=True)
+work.mkdir(parents=True)
+run = work / "volcano"
+p = subprocess.run([talus, "run", str(source / "cases/examples/volcano_slide.toml"), "--out",
+                    str(run), "--set", "simulation.end_time=6.0", "--set",
+                    "output.particles=false", "--threads", "2"], capture_output=True, text=True,
+                   timeout=600)
+if p.returncode != 0:
+    sys.exit(f"the volcano run failed ({p.returncode}): {p.stderr[-1500:]}")
+failures = []
+
+
+def read(stem):
+    """The band and what the file says of it (read while open)."""
+    with rasterio.open(run / "maps" / f"{stem}.tif") as r:
+        return r.read(1, masked=True), dict(width=r.width, height=r.height,
+                                            transform=r.transform, units=r.units,
+                                            nodata=r.nodata, names=r.descriptions,
+                                            tags=r.tags())
+
+
+dem = rasterio.open(source / "cases/examples/volcano/maunga_whau.asc")
+fields = {}
+for stem, unit in [("peak_thickness", "m"), ("peak_speed", "m/s"),
+                   ("peak_kinetic_energy", "J/m^2"), ("peak_pressure", "Pa"),
+                   ("arrival_time", "s"), ("deposit_thickness", "m"),
+                   ("release_thickness", "m"), ("elevation", "m")]:
+    data, r = read(stem)
+    fields[stem] = data
+    if (r["width"], r["height"]) != (dem.width, dem.height) or r["transform"] != dem.transform:
+        failures.append(f"{stem}: grid {r['width']} x {r['height']} {r['transform']}, not the "
+                        "DEM's")
+    if r["units"][0] != unit or r["nodata"] != -9999.0 or r["names"][0] != stem:
+        failures.append(f"{stem}: unit {r['units']}, no data {r['nodata']}, name {r['names']}")
+    if r["tags"].get("TALUS_BODIES") != "slide":
+        failures.append(f"{stem}: metadata {r['tags']}")
+h, u, e, pr, t = (fields[k] for k in ("peak_thickness", "peak_speed", "peak_kinetic_energy",
+                                      "peak_pressure", "arrival_time"))
+reached = h.filled(0) > 0
+if reached.sum() < 50:
+    failures.append(f"only {reached.sum()} cells reached")
+if not np.array_equal(reached, ~t.mask) or not np.array_equal(reached, u.filled(0) > 0):
+    failures.append("thickness, speed and arrival time disagree on the cells reached")
+if t.max() > 6.0 + 1e-6 or t.min() < 0:
+    failures.append(f"arrival times {t.min()} to {t.max()} s outside the run")
+rho = pr[reached] / u[reached] ** 2
+if rho.min() < 300 or rho.max() > 1900 * 1.001:
+    failures.append(f"rho u^2 / u^2 from {rho.min():.0f} to {rho.max():.0f} kg/m^3, not a "
+                    "density up to the slide's 1900")
+# The ground under the maps is the DEM's, sampled at the cells' centres.
+z = fields["elevation"]
+if abs(float(z[40, 30]) - float(dem.read(1)[40, 30])) > 1e-3:
+    failures.append(f"elevation.tif {z[40, 30]} against the DEM's {dem.read(1)[40, 30]}")
+released = fields["release_thickness"].filled(0) > 0
+if released.sum() < 20 or np.any(released & ~reached):
+    failures.append(f"release area {released.sum()} cells, {np.sum(released & ~reached)} outside "
+                    "the reached cells")
+p = subprocess.run(["/usr/bin/python3", str(source / "tools/plot_maps.py"), str(run)],
+                   capture_output=True, text=True, timeout=300)
+pngs = sorted((run / "plots").glob("map_*.png"))
+if p.returncode != 0 or len(pngs) != 6 or min(f.stat().st_size for f in pngs) < 20000:
+    failures.append(f"plot_maps.py: exit {p.returncode}, {[f.name for f in pngs]}: {p.stderr}")
+for f in failures:
+    print("FAIL", f)
+print(f"maps: {reached.sum()} cells reached, peak {h.max():.1f} m, {u.max():.1f} m/s; "
+      f"{len(pngs)} pictures")
+sys.exit(1 if failures else 0)
