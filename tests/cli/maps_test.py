@@ -4,10 +4,12 @@ GeoTIFFs on the DEM's grid, which rasterio (GDAL underneath, as QGIS) reads with
 georeferencing, units and no data; the fields are consistent with each other (a cell has a speed
 and an arrival time where, and only where, moving material passed; the pressure is rho u^2 with
 rho between the slide's density and its loosened state; the release area lies inside the
-reached cells); and tools/plot_maps.py draws every field.
+reached cells); the outlines (GeoJSON) enclose exactly the cells reached, deposited and
+released; and tools/plot_maps.py draws every field.
 
 Usage: maps_test.py TALUS SOURCE_DIR WORK_DIR
 """
+import json
 import shutil
 import subprocess
 import sys
@@ -74,6 +76,23 @@ released = fields["release_thickness"].filled(0) > 0
 if released.sum() < 20 or np.any(released & ~reached):
     failures.append(f"release area {released.sum()} cells, {np.sum(released & ~reached)} outside "
                     "the reached cells")
+# The outlines (GeoJSON polygons on the cells' edges): their areas are the cells' counts.
+
+
+def ring_area(ring):
+    return abs(sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(ring, ring[1:]))) / 2
+
+
+for name, cells in [("impact_area", reached.sum()),
+                    ("deposit_area", (fields["deposit_thickness"].filled(0) > 0).sum()),
+                    ("release_area", released.sum())]:
+    doc = json.loads((run / "maps" / f"{name}.geojson").read_text())
+    area = sum(ring_area(f["geometry"]["coordinates"][0]) -
+               sum(ring_area(h) for h in f["geometry"]["coordinates"][1:])
+               for f in doc["features"])
+    if abs(area - cells * 100.0) > 1e-6 or doc.get("name") != name:
+        failures.append(f"{name}.geojson: {area} m^2 in {len(doc['features'])} polygons against "
+                        f"{cells} cells of 100 m^2")
 p = subprocess.run(["/usr/bin/python3", str(source / "tools/plot_maps.py"), str(run)],
                    capture_output=True, text=True, timeout=300)
 pngs = sorted((run / "plots").glob("map_*.png"))

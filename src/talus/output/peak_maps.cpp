@@ -8,9 +8,11 @@
 #include <cpl_string.h>
 #include <cpl_vsi.h>
 #include <fmt/format.h>
+#include <gdal_alg.h>
 #include <gdal_priv.h>
 #include <limits>
 #include <mutex>
+#include <ogrsf_frmts.h>
 
 namespace talus {
 
@@ -86,6 +88,55 @@ void write_geotiff(const std::string& path, const MapGrid& grid,
   vsi_l_offset size = 0;
   GByte* bytes = VSIGetMemFileBuffer(mem.c_str(), &size, TRUE);
   if (!bytes) throw OutputError(fmt::format("{}: GDAL made no GeoTIFF", path));
+  try {
+    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes), size));
+  } catch (...) {
+    CPLFree(bytes);
+    throw;
+  }
+  CPLFree(bytes);
+}
+
+void write_outline(const std::string& path, const MapGrid& grid, const std::vector<char>& inside,
+                   const std::string& name) {
+  static std::once_flag registered;
+  std::call_once(registered, [] { GDALAllRegister(); });
+  GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+  GDALDriver* json = GetGDALDriverManager()->GetDriverByName("GeoJSON");
+  if (!mem || !json) throw OutputError(fmt::format("{}: GDAL has no GeoJSON driver", path));
+  static std::atomic<int> serial{0};
+  const std::string vmem = fmt::format("/vsimem/talus_outline_{}.geojson", serial++);
+  {
+    GDALDatasetUniquePtr mask(mem->Create("", grid.nx, grid.ny, 1, GDT_Byte, nullptr));
+    double gt[6] = {grid.x0 + grid.origin[0],
+                    grid.dx,
+                    0.0,
+                    grid.y0 + grid.ny * grid.dy + grid.origin[1],
+                    0.0,
+                    -grid.dy};
+    mask->SetGeoTransform(gt);
+    std::vector<GByte> rows(grid.cells());
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < grid.nx; ++i)
+        rows[static_cast<std::size_t>(grid.ny - 1 - j) * grid.nx + i] =
+            inside[static_cast<std::size_t>(j) * grid.nx + i] ? 1 : 0;
+    GDALRasterBand* band = mask->GetRasterBand(1);
+    if (band->RasterIO(GF_Write, 0, 0, grid.nx, grid.ny, rows.data(), grid.nx, grid.ny, GDT_Byte, 0,
+                       0) != CE_None)
+      throw OutputError(fmt::format("{}: GDAL cannot hold the outline's cells", path));
+    GDALDatasetUniquePtr out(json->Create(vmem.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    if (!out) throw OutputError(fmt::format("{}: GDAL cannot make the GeoJSON", path));
+    OGRSpatialReference srs;
+    const bool has_crs = !grid.crs.empty() && srs.importFromWkt(grid.crs.c_str()) == OGRERR_NONE;
+    OGRLayer* layer = out->CreateLayer(name.c_str(), has_crs ? &srs : nullptr, wkbPolygon, nullptr);
+    OGRFieldDefn field("inside", OFTInteger);
+    if (!layer || layer->CreateField(&field) != OGRERR_NONE ||
+        GDALPolygonize(band, band, layer, 0, nullptr, nullptr, nullptr) != CE_None)
+      throw OutputError(fmt::format("{}: GDAL cannot trace the outline", path));
+  }
+  vsi_l_offset size = 0;
+  GByte* bytes = VSIGetMemFileBuffer(vmem.c_str(), &size, TRUE);
+  if (!bytes) throw OutputError(fmt::format("{}: GDAL made no GeoJSON", path));
   try {
     write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes), size));
   } catch (...) {
@@ -229,6 +280,16 @@ void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
       {"deposit_thickness", "m", "the mapped bodies' thickness at the time written", h});
   one("release_thickness.tif",
       {"release_thickness", "m", "the mapped bodies' thickness at release", release_});
+  // The outlines: where moving material passed, where the bodies lie now, where they started.
+  auto outline = [&](const std::string& file, const std::vector<double>& v, const char* name) {
+    std::vector<char> inside(v.size());
+    for (std::size_t c = 0; c < v.size(); ++c)
+      inside[c] = v[c] > 0.0;
+    write_outline(dir + "/" + file, M.grid, inside, name);
+  };
+  outline("impact_area.geojson", thickness_, "impact_area");
+  outline("deposit_area.geojson", h, "deposit_area");
+  outline("release_area.geojson", release_, "release_area");
   if (M.dem) { // the ground at each cell's centre (bilinear), for the pictures' hillshade
     const MapGrid& G = M.grid;
     std::vector<double> z(G.cells());

@@ -37,6 +37,12 @@ void write_geotiff(const std::string& path, const MapGrid& grid,
                    const std::vector<MapLayer>& layers,
                    const std::vector<std::pair<std::string, std::string>>& metadata);
 
+// Writes the outline of the cells where `inside` is nonzero as GeoJSON polygons (GDAL's
+// polygonize: one polygon per connected patch, holes kept) in the grid's coordinate system, a
+// layer named `name`, at `path` (atomically). Throws OutputError.
+void write_outline(const std::string& path, const MapGrid& grid, const std::vector<char>& inside,
+                   const std::string& name);
+
 template <int D>
 class PeakMaps {
 public:

@@ -116,9 +116,11 @@ std::string file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-const char* const map_files[] = {
-    "peak_thickness.tif", "peak_speed.tif",        "peak_kinetic_energy.tif", "peak_pressure.tif",
-    "arrival_time.tif",   "deposit_thickness.tif", "release_thickness.tif"};
+const char* const map_files[] = {"peak_thickness.tif",      "peak_speed.tif",
+                                 "peak_kinetic_energy.tif", "peak_pressure.tif",
+                                 "arrival_time.tif",        "deposit_thickness.tif",
+                                 "release_thickness.tif",   "impact_area.geojson",
+                                 "deposit_area.geojson",    "release_area.geojson"};
 
 // A run stopped by SIGTERM after a checkpoint and restarted writes the same maps, byte for byte,
 // as one that ran through: the peak fields and arrival times are in the checkpoint.
