@@ -3,6 +3,7 @@
 #include "talus/output/files.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cpl_string.h>
@@ -34,19 +35,54 @@ double unfixed(std::int64_t value, int shift) {
   return std::ldexp(static_cast<double>(value), -shift);
 }
 
+// The grid's geotransform, north up (the first row is the northern one), the [terrain] origin
+// added back.
+std::array<double, 6> geotransform(const MapGrid& grid) {
+  return {grid.x0 + grid.origin[0],
+          grid.dx,
+          0.0,
+          grid.y0 + grid.ny * grid.dy + grid.origin[1],
+          0.0,
+          -grid.dy};
+}
+
+// GDAL's drivers, registered once.
+GDALDriver* gdal_driver(const char* name) {
+  static std::once_flag registered;
+  std::call_once(registered, [] { GDALAllRegister(); });
+  return GetGDALDriverManager()->GetDriverByName(name);
+}
+
+// A new name among GDAL's in-memory files. Maps are made there, then written into the run folder
+// atomically (GDAL's own file writing would bypass the folder's anchor and leave a half-written
+// file if the run were killed).
+std::string memory_file(const char* extension) {
+  static std::atomic<int> serial{0};
+  return fmt::format("/vsimem/talus_map_{}.{}", serial++, extension);
+}
+
+// Moves the closed in-memory file `mem` to `path` atomically; `what` names it in errors.
+void write_memory_file(const std::string& mem, const std::string& path, const char* what) {
+  vsi_l_offset size = 0;
+  GByte* bytes = VSIGetMemFileBuffer(mem.c_str(), &size, TRUE);
+  if (!bytes) throw OutputError(fmt::format("{}: GDAL made no {}", path, what));
+  try {
+    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes), size));
+  } catch (...) {
+    CPLFree(bytes);
+    throw;
+  }
+  CPLFree(bytes);
+}
+
 } // namespace
 
 void write_geotiff(const std::string& path, const MapGrid& grid,
                    const std::vector<MapLayer>& layers,
                    const std::vector<std::pair<std::string, std::string>>& metadata) {
-  static std::once_flag registered;
-  std::call_once(registered, [] { GDALAllRegister(); });
-  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
+  GDALDriver* driver = gdal_driver("GTiff");
   if (!driver) throw OutputError(fmt::format("{}: GDAL has no GeoTIFF driver", path));
-  // Written in memory, then into the run folder atomically (GDAL's own file writing would
-  // bypass the folder's anchor and leave a half-written file if the run were killed).
-  static std::atomic<int> serial{0};
-  const std::string mem = fmt::format("/vsimem/talus_map_{}.tif", serial++);
+  const std::string mem = memory_file("tif");
   CPLStringList options;
   options.SetNameValue("COMPRESS", "DEFLATE");
   options.SetNameValue("PREDICTOR", "3");
@@ -55,14 +91,8 @@ void write_geotiff(const std::string& path, const MapGrid& grid,
                                            static_cast<int>(layers.size()), GDT_Float32,
                                            options.List()));
     if (!ds) throw OutputError(fmt::format("{}: GDAL cannot make the GeoTIFF", path));
-    // North-up: the first row is the northern one; the [terrain] origin added back.
-    double gt[6] = {grid.x0 + grid.origin[0],
-                    grid.dx,
-                    0.0,
-                    grid.y0 + grid.ny * grid.dy + grid.origin[1],
-                    0.0,
-                    -grid.dy};
-    ds->SetGeoTransform(gt);
+    std::array<double, 6> gt = geotransform(grid);
+    ds->SetGeoTransform(gt.data());
     if (!grid.crs.empty()) ds->SetProjection(grid.crs.c_str());
     for (const auto& [key, value] : metadata)
       ds->SetMetadataItem(key.c_str(), value.c_str());
@@ -85,36 +115,19 @@ void write_geotiff(const std::string& path, const MapGrid& grid,
         throw OutputError(fmt::format("{}: GDAL cannot write band {}", path, k + 1));
     }
   }
-  vsi_l_offset size = 0;
-  GByte* bytes = VSIGetMemFileBuffer(mem.c_str(), &size, TRUE);
-  if (!bytes) throw OutputError(fmt::format("{}: GDAL made no GeoTIFF", path));
-  try {
-    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes), size));
-  } catch (...) {
-    CPLFree(bytes);
-    throw;
-  }
-  CPLFree(bytes);
+  write_memory_file(mem, path, "GeoTIFF");
 }
 
 void write_outline(const std::string& path, const MapGrid& grid, const std::vector<char>& inside,
                    const std::string& name) {
-  static std::once_flag registered;
-  std::call_once(registered, [] { GDALAllRegister(); });
-  GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
-  GDALDriver* json = GetGDALDriverManager()->GetDriverByName("GeoJSON");
+  GDALDriver* mem = gdal_driver("MEM");
+  GDALDriver* json = gdal_driver("GeoJSON");
   if (!mem || !json) throw OutputError(fmt::format("{}: GDAL has no GeoJSON driver", path));
-  static std::atomic<int> serial{0};
-  const std::string vmem = fmt::format("/vsimem/talus_outline_{}.geojson", serial++);
+  const std::string vmem = memory_file("geojson");
   {
     GDALDatasetUniquePtr mask(mem->Create("", grid.nx, grid.ny, 1, GDT_Byte, nullptr));
-    double gt[6] = {grid.x0 + grid.origin[0],
-                    grid.dx,
-                    0.0,
-                    grid.y0 + grid.ny * grid.dy + grid.origin[1],
-                    0.0,
-                    -grid.dy};
-    mask->SetGeoTransform(gt);
+    std::array<double, 6> gt = geotransform(grid);
+    mask->SetGeoTransform(gt.data());
     std::vector<GByte> rows(grid.cells());
     for (int j = 0; j < grid.ny; ++j)
       for (int i = 0; i < grid.nx; ++i)
@@ -134,16 +147,7 @@ void write_outline(const std::string& path, const MapGrid& grid, const std::vect
         GDALPolygonize(band, band, layer, 0, nullptr, nullptr, nullptr) != CE_None)
       throw OutputError(fmt::format("{}: GDAL cannot trace the outline", path));
   }
-  vsi_l_offset size = 0;
-  GByte* bytes = VSIGetMemFileBuffer(vmem.c_str(), &size, TRUE);
-  if (!bytes) throw OutputError(fmt::format("{}: GDAL made no GeoJSON", path));
-  try {
-    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes), size));
-  } catch (...) {
-    CPLFree(bytes);
-    throw;
-  }
-  CPLFree(bytes);
+  write_memory_file(vmem, path, "GeoJSON");
 }
 
 template <int D>
