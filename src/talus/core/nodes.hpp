@@ -28,7 +28,8 @@ struct BodyField {
   std::vector<Vec<D>> v;       // velocity at the start of the step, v_I^n
   std::vector<Vec<D>> v_new;   // velocity at the end of the step, v_I^{n+1} (eq. 20, 31-36)
   std::vector<Vec<D>> v_remap; // MUSL: velocity re-mapped from the updated particles
-  // Interface particles' contributions (paper eq. 37): sum N c^p A^p, sum N t^p A^p (tensile),
+  // Interface particles' contributions (paper eq. 37): the slave's cohesive and tensile capacity
+  // shared over the nodes where the pair meets (Simulation::share_interface_loads),
   // sum N mu^p A^p and sum N A^p; and the slip rate contact measured against the interface
   // partner, with its weight 4 s (1 - s) (s: the partner's share of the two bodies' volume; only
   // where the body is held or its bond has opened), gathered back as slip. One slot per

@@ -21,7 +21,7 @@ namespace {
 
 constexpr double no_data = -9999.0;
 
-// The smallest shift s with bound * 2^s below 2^62: sums of values up to `bound` in total, each
+// The largest shift s with bound * 2^s below 2^62: sums of values up to `bound` in total, each
 // rounded to 2^-s, stay within an int64 with room for the rounding.
 int fixed_point_shift(double bound) {
   return 62 - static_cast<int>(std::ceil(std::log2(std::max(bound, 1e-300))));

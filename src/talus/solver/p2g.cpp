@@ -16,8 +16,9 @@
 namespace talus {
 
 // P2G, eq. 14-18, 30 and 37. Reads the particles; writes the shape-weight cache and each field's
-// mass, momentum, mass gradient and mass-weighted position (near other bodies), bond capacities,
-// and with `with_forces` the internal and external force. The mass gradient and position serve
+// mass, momentum, mass gradient and mass-weighted position (near other bodies), the interfaces'
+// friction and area (their capacities: share_interface_loads), and with `with_forces` the
+// internal and external force. The mass gradient and position serve
 // contact only; a single body skips them.
 template <int D>
 void Simulation<D>::map_particles_to_nodes(bool with_forces) {

@@ -210,8 +210,9 @@ private:
   void scatter(F&& f);
 
   void invalidate_shape() { shape_.invalidate(); }
-  // A fixed body's field (mass, gradient, position, bond capacities; velocity zero) is the same
-  // every step: held after its first full scatter, until this drops it.
+  // A fixed body's field (mass, gradient, position, friction and area; velocity zero) is the same
+  // every step: held after its first full scatter, until this drops it (its bond capacities are
+  // shared out anew every step, share_interface_loads).
   void drop_held_fields() { std::fill(field_held_.begin(), field_held_.end(), 0); }
 
   Case case_data_; // for the writers (case_()); the phases read setup_
