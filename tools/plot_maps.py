@@ -4,7 +4,8 @@ field drawn over the ground's hillshade with its contours, the release area's ou
 release thickness is above zero), a labelled colour bar, a scale bar and a north arrow, in map
 coordinates (the rasters' own, the [terrain] origin added back), framed on the area the bodies
 reached with a margin of half its size (--whole: the whole raster). Cells the field never
-reached are left clear. Written to RUN_DIR/plots/map_FIELD.png (or --out DIR).
+reached are left clear; the intensity classes are drawn in the colours of Swiss hazard maps
+(low yellow, medium blue, high red) with their thresholds. Written to RUN_DIR/plots/map_FIELD.png (or --out DIR).
 
 Usage: plot_maps.py RUN_DIR [--out DIR] [--contour M] [--whole]
 """
@@ -16,6 +17,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.colors import ListedColormap  # noqa: E402
 import numpy as np  # noqa: E402
 import rasterio  # noqa: E402
 
@@ -27,6 +29,8 @@ FIELDS = {
     "peak_pressure": ("Peak dynamic pressure", "inferno"),
     "arrival_time": ("Arrival time after release", "cividis_r"),
     "deposit_thickness": ("Deposit thickness", "viridis"),
+    # The classes in the colours of Swiss hazard maps: low yellow, medium blue, high red.
+    "intensity": ("Intensity class", ListedColormap(["#f2d40f", "#2f6fd6", "#d7191c"])),
 }
 
 ap = argparse.ArgumentParser()
@@ -54,6 +58,13 @@ def read(stem):
         unit = (r.units or ("",))[0]
         tags = r.tags()
     return data, (b.left, b.right, b.bottom, b.top), (unit, tags)
+
+
+def band_description(stem):
+    """The thresholds a class raster was made with, as its band's description states them."""
+    with rasterio.open(maps / f"{stem}.tif") as r:
+        text = r.tags(1).get("DESCRIPTION", "")
+    return text.split(": ", 1)[-1].split("; no data")[0].replace("), ", "),\n")
 
 
 def hillshade(z, dx, dy, azimuth=315.0, altitude=45.0):
@@ -119,15 +130,21 @@ for stem, (title, cmap) in FIELDS.items():
                            step)
         cs = ax.contour(xs, ys, ground, levels=levels, colors="k", linewidths=0.4, alpha=0.5)
         ax.clabel(cs, fontsize=6, fmt="%.0f")
-    im = ax.imshow(shown, extent=ext, cmap=cmap, alpha=0.85, interpolation="nearest")
+    classes = stem == "intensity"
+    im = ax.imshow(shown, extent=ext, cmap=cmap, alpha=0.85, interpolation="nearest",
+                   **(dict(vmin=0.5, vmax=3.5) if classes else {}))
     if release is not None and np.nanmax(release) > 0.0:
         xs = left + (np.arange(nx) + 0.5) * dx
         ys = top - (np.arange(ny) + 0.5) * dy
         ax.contour(xs, ys, np.nan_to_num(release), levels=[1e-6], colors="w", linewidths=1.6)
         ax.plot([], [], color="w", lw=1.6, label="release area")
         ax.legend(loc="lower left", fontsize=8, facecolor="0.3", labelcolor="w", framealpha=0.8)
-    bar = fig.colorbar(im, ax=ax, shrink=0.8)
-    bar.set_label(f"{title.lower()} ({unit})")
+    bar = fig.colorbar(im, ax=ax, shrink=0.8, **(dict(ticks=[1, 2, 3]) if classes else {}))
+    if classes:
+        bar.ax.set_yticklabels(["low", "medium", "high"])
+        bar.set_label(f"{title.lower()}: {band_description(stem)}", fontsize=7)
+    else:
+        bar.set_label(f"{title.lower()} ({unit})")
     # Framed on the view; scale bar (bottom right) and north arrow (top right) in its metres.
     vl, vr, vb, vt = view
     ax.set_xlim(vl, vr)

@@ -72,6 +72,15 @@ if rho.min() < 300 or rho.max() > 1900 * 1.001:
 z = fields["elevation"]
 if abs(float(z[40, 30]) - float(dem.read(1)[40, 30])) > 1e-3:
     failures.append(f"elevation.tif {z[40, 30]} against the DEM's {dem.read(1)[40, 30]}")
+# The intensity classes (Swiss debris-flow defaults): 3 where h > 1 m and u > 1 m/s, else 2.
+klass, r = read("intensity")
+expected = np.where(reached, np.where((h.filled(0) > 1.0) & (u.filled(0) > 1.0), 3, 2), -1)
+if r["units"][0] != "class" or not np.array_equal(klass.filled(-1), expected):
+    failures.append(f"intensity.tif: unit {r['units']}, classes "
+                    f"{np.unique(klass.filled(-1), return_counts=True)} against "
+                    f"{np.unique(expected, return_counts=True)}")
+if not (expected == 3).any() or not (expected == 2).any():
+    failures.append("intensity: the volcano run should have both high and medium cells")
 released = fields["release_thickness"].filled(0) > 0
 if released.sum() < 20 or np.any(released & ~reached):
     failures.append(f"release area {released.sum()} cells, {np.sum(released & ~reached)} outside "
@@ -96,7 +105,7 @@ for name, cells in [("impact_area", reached.sum()),
 p = subprocess.run(["/usr/bin/python3", str(source / "tools/plot_maps.py"), str(run)],
                    capture_output=True, text=True, timeout=300)
 pngs = sorted((run / "plots").glob("map_*.png"))
-if p.returncode != 0 or len(pngs) != 6 or min(f.stat().st_size for f in pngs) < 20000:
+if p.returncode != 0 or len(pngs) != 7 or min(f.stat().st_size for f in pngs) < 20000:
     failures.append(f"plot_maps.py: exit {p.returncode}, {[f.name for f in pngs]}: {p.stderr}")
 for f in failures:
     print("FAIL", f)

@@ -7,8 +7,8 @@ in summary.json. Then: a run stopped on 2 processes
 (--max-steps), its newest checkpoint damaged, and restarted on 3 ends identical (each process
 reading its slab of the older checkpoint); a process killed with SIGKILL stops the others
 and leaves its newest checkpoint readable, and a one-process restart from it ends identical; the
-3D volcano slide's hazard maps (GeoTIFFs) on 2 and 3 processes are the one-process run's; a
-grid too narrow for the processes is refused with a message naming its columns; a bad case's
+3D volcano slide's hazard maps (GeoTIFFs) on 2 and 3 processes are the one-process run's, and a
+mapped particle too fast for the maps stops every process; a grid too narrow for the processes is refused with a message naming its columns; a bad case's
 error is printed once, not once per process.
 
 Usage: mpi_run_test.py TALUS_SERIAL TALUS_MPI MPIEXEC SOURCE_DIR WORK_DIR
@@ -171,11 +171,22 @@ for np in (2, 3):
         failures.append(f"maps, {np} processes: exit {rc}: {out[-800:]}")
         continue
     tifs = sorted(p.name for p in (d1 / "maps").iterdir())
-    if len(tifs) != 11:
+    if len(tifs) != 12:
         failures.append(f"maps: the one-process run wrote {tifs}")
     for n in tifs:
         if (d1 / "maps" / n).read_bytes() != (d / "maps" / n).read_bytes():
             failures.append(f"maps, {np} processes: maps/{n} differs from the one-process run")
+
+# A mapped particle out of the maps' range on some processes only: every process stops with the
+# first one's message (none waits in the maps' sums for a process that has stopped).
+d = fresh("maps_too_fast")
+rc, out = run([*mpi(3, 1), "run", str(volcano), "--out", str(d), *maps_settings, "--set",
+               "initial_state.settle_time=0", "--set", "body.slide.velocity=[5000, 0, 0]"], 1,
+              timeout=300)
+summary = json.loads((d / "summary.json").read_text())
+message = summary.get("message", "")
+if rc != 1 or summary["status"] != "failed" or "faster than the 4096 m/s" not in message:
+    failures.append(f"maps, a particle too fast: exit {rc}, {summary['status']}: {out[-800:]}")
 
 # A grid too narrow for the processes' slabs.
 d = fresh("narrow")
@@ -195,4 +206,4 @@ if failures:
     sys.exit(1)
 print("mpi run folders identical to the one-process run (2, 3, 4 processes x 1, 2 threads; "
       "2 -> 3 restart; killed process; blow-up reported as failed; hazard maps on 2 and 3 "
-      "processes; narrow grid refused; bad case reported once)")
+      "processes, and stopped on all when a particle is too fast; narrow grid refused; bad case reported once)")

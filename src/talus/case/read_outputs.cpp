@@ -106,6 +106,16 @@ void read_maps(TableReader& root, Case& c) {
     r.fail("bodies", "maps are rasters of a 3D run's ground plan; a 2D case has none");
   m.moving_speed = r.number("moving_speed", m.moving_speed);
   require(r, "moving_speed", m.moving_speed > 0.0, "must be > 0 m/s");
+  m.high_thickness = r.number("high_thickness", m.high_thickness);
+  m.high_speed = r.number("high_speed", m.high_speed);
+  m.medium_thickness = r.number("medium_thickness", m.medium_thickness);
+  m.medium_speed = r.number("medium_speed", m.medium_speed);
+  require(r, "medium_thickness", m.medium_thickness >= 0.0, "must be >= 0 m");
+  require(r, "medium_speed", m.medium_speed >= 0.0, "must be >= 0 m/s");
+  require(r, "high_thickness", m.high_thickness >= m.medium_thickness,
+          "must be >= medium_thickness (the classes are nested)");
+  require(r, "high_speed", m.high_speed >= m.medium_speed,
+          "must be >= medium_speed (the classes are nested)");
   // The DEM: the top raster of the first mapped body that has one.
   std::shared_ptr<const Raster> dem;
   for (const int b : m.bodies)
@@ -128,6 +138,9 @@ void read_maps(TableReader& root, Case& c) {
                           "from");
     G.x0 = dem->x0, G.y0 = dem->y0, G.dx = dem->dx, G.dy = dem->dy;
     G.nx = dem->nx, G.ny = dem->ny, G.crs = dem->crs;
+    require(r, "cell_size", static_cast<double>(G.nx) * G.ny <= 1e8,
+            fmt::format("required: the DEM has {} x {} cells, more than the 1e8 a map may have",
+                        G.nx, G.ny));
   }
   r.finish();
 }

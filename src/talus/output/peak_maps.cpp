@@ -53,12 +53,27 @@ GDALDriver* gdal_driver(const char* name) {
   return GetGDALDriverManager()->GetDriverByName(name);
 }
 
-// A new name among GDAL's in-memory files. Maps are made there, then written into the run folder
-// atomically (GDAL's own file writing would bypass the folder's anchor and leave a half-written
-// file if the run were killed).
-std::string memory_file(const char* extension) {
-  static std::atomic<int> serial{0};
-  return fmt::format("/vsimem/talus_map_{}.{}", serial++, extension);
+// A new file among GDAL's in-memory files, removed when it goes out of scope. Maps are made
+// there, then written into the run folder atomically (GDAL's own file writing would bypass the
+// folder's anchor and leave a half-written file if the run were killed).
+struct MemoryFile {
+  explicit MemoryFile(const char* extension) {
+    static std::atomic<int> serial{0};
+    name = fmt::format("/vsimem/talus_map_{}.{}", serial++, extension);
+  }
+  ~MemoryFile() { VSIUnlink(name.c_str()); } // gone already once its buffer is taken
+  MemoryFile(const MemoryFile&) = delete;
+  MemoryFile& operator=(const MemoryFile&) = delete;
+  std::string name;
+};
+
+// Closes a dataset, throwing if GDAL reports a failure while it finishes the file.
+void close_dataset(GDALDatasetUniquePtr& ds, const std::string& path, const char* what) {
+  CPLErrorReset();
+  GDALClose(GDALDataset::ToHandle(ds.release()));
+  if (CPLGetLastErrorType() == CE_Failure || CPLGetLastErrorType() == CE_Fatal)
+    throw OutputError(
+        fmt::format("{}: GDAL cannot finish the {}: {}", path, what, CPLGetLastErrorMsg()));
 }
 
 // Moves the closed in-memory file `mem` to `path` atomically; `what` names it in errors.
@@ -82,12 +97,12 @@ void write_geotiff(const std::string& path, const MapGrid& grid,
                    const std::vector<std::pair<std::string, std::string>>& metadata) {
   GDALDriver* driver = gdal_driver("GTiff");
   if (!driver) throw OutputError(fmt::format("{}: GDAL has no GeoTIFF driver", path));
-  const std::string mem = memory_file("tif");
+  const MemoryFile mem("tif");
   CPLStringList options;
   options.SetNameValue("COMPRESS", "DEFLATE");
   options.SetNameValue("PREDICTOR", "3");
   {
-    GDALDatasetUniquePtr ds(driver->Create(mem.c_str(), grid.nx, grid.ny,
+    GDALDatasetUniquePtr ds(driver->Create(mem.name.c_str(), grid.nx, grid.ny,
                                            static_cast<int>(layers.size()), GDT_Float32,
                                            options.List()));
     if (!ds) throw OutputError(fmt::format("{}: GDAL cannot make the GeoTIFF", path));
@@ -114,8 +129,9 @@ void write_geotiff(const std::string& path, const MapGrid& grid,
                          GDT_Float32, 0, 0) != CE_None)
         throw OutputError(fmt::format("{}: GDAL cannot write band {}", path, k + 1));
     }
+    close_dataset(ds, path, "GeoTIFF");
   }
-  write_memory_file(mem, path, "GeoTIFF");
+  write_memory_file(mem.name, path, "GeoTIFF");
 }
 
 void write_outline(const std::string& path, const MapGrid& grid, const std::vector<char>& inside,
@@ -123,9 +139,10 @@ void write_outline(const std::string& path, const MapGrid& grid, const std::vect
   GDALDriver* mem = gdal_driver("MEM");
   GDALDriver* json = gdal_driver("GeoJSON");
   if (!mem || !json) throw OutputError(fmt::format("{}: GDAL has no GeoJSON driver", path));
-  const std::string vmem = memory_file("geojson");
+  const MemoryFile vmem("geojson");
   {
     GDALDatasetUniquePtr mask(mem->Create("", grid.nx, grid.ny, 1, GDT_Byte, nullptr));
+    if (!mask) throw OutputError(fmt::format("{}: GDAL cannot make the outline's mask", path));
     std::array<double, 6> gt = geotransform(grid);
     mask->SetGeoTransform(gt.data());
     std::vector<GByte> rows(grid.cells());
@@ -137,7 +154,7 @@ void write_outline(const std::string& path, const MapGrid& grid, const std::vect
     if (band->RasterIO(GF_Write, 0, 0, grid.nx, grid.ny, rows.data(), grid.nx, grid.ny, GDT_Byte, 0,
                        0) != CE_None)
       throw OutputError(fmt::format("{}: GDAL cannot hold the outline's cells", path));
-    GDALDatasetUniquePtr out(json->Create(vmem.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    GDALDatasetUniquePtr out(json->Create(vmem.name.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
     if (!out) throw OutputError(fmt::format("{}: GDAL cannot make the GeoJSON", path));
     OGRSpatialReference srs;
     const bool has_crs = !grid.crs.empty() && srs.importFromWkt(grid.crs.c_str()) == OGRERR_NONE;
@@ -146,8 +163,16 @@ void write_outline(const std::string& path, const MapGrid& grid, const std::vect
     if (!layer || layer->CreateField(&field) != OGRERR_NONE ||
         GDALPolygonize(band, band, layer, 0, nullptr, nullptr, nullptr) != CE_None)
       throw OutputError(fmt::format("{}: GDAL cannot trace the outline", path));
+    close_dataset(out, path, "GeoJSON");
   }
-  write_memory_file(vmem, path, "GeoJSON");
+  write_memory_file(vmem.name, path, "GeoJSON");
+}
+
+double intensity_class(double h, double v, const MapsSettings& m) {
+  if (!(h > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  if (h > m.high_thickness && v > m.high_speed) return 3.0;
+  if (h > m.medium_thickness && v > m.medium_speed) return 2.0;
+  return 1.0;
 }
 
 template <int D>
@@ -181,40 +206,65 @@ std::int64_t PeakMaps<D>::cell_of(const Vec<D>& x) const {
 template <int D>
 void PeakMaps<D>::accumulate(const Simulation<D>& sim, double time) {
   const auto& P = sim.particles();
+  const MapGrid& G = settings_.grid;
   constexpr int S = 2 + D;
-  std::fill(sums_.begin(), sums_.end(), 0);
-  for (int b = 0; b < sim.num_bodies(); ++b) {
+  const std::size_t row = static_cast<std::size_t>(G.nx) * S;
+  // Only the rows last step's moving material touched hold sums: clear them.
+  if (rows_hi_ >= rows_lo_)
+    std::fill(sums_.begin() + rows_lo_ * row, sums_.begin() + (rows_hi_ + 1) * row, 0);
+  std::int64_t lo = G.ny, hi = -1; // the rows this process's moving particles touch
+  std::string fault;               // this process's first bad particle
+  for (int b = 0; b < sim.num_bodies() && fault.empty(); ++b) {
     if (!mapped_[b]) continue;
     for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
       if (!sim.is_own(p)) continue;
       const double speed = P.v[p].norm();
       if (!(speed > settings_.moving_speed)) continue;
-      if (!(speed < max_speed))
-        throw SimulationError(fmt::format(
-            "step {}, time {:.6g} s: particle {} moves at {:.4g} m/s, faster than the {} m/s "
-            "that the maps' sums hold: a speed out of any physical range",
-            sim.steps(), time, P.id[p], speed, max_speed));
+      if (!(speed < max_speed)) {
+        fault = fmt::format("step {}, time {:.6g} s: particle {} moves at {:.4g} m/s, faster "
+                            "than the {} m/s that the maps' sums hold: a speed out of any "
+                            "physical range",
+                            sim.steps(), time, P.id[p], speed, max_speed);
+        break;
+      }
       const std::int64_t c = cell_of(P.x[p]);
       if (c < 0) continue;
+      lo = std::min(lo, c / G.nx), hi = std::max(hi, c / G.nx);
       std::int64_t* s = sums_.data() + c * S;
       bool overflow = __builtin_add_overflow(s[0], fixed(P.vol[p], volume_shift_), &s[0]);
       overflow |= __builtin_add_overflow(s[1], fixed(P.m[p], mass_shift_), &s[1]);
       for (int d = 0; d < D; ++d)
         overflow |=
             __builtin_add_overflow(s[2 + d], fixed(P.m[p] * P.v[p][d], mass_shift_), &s[2 + d]);
-      if (overflow)
-        throw SimulationError(fmt::format(
-            "step {}, time {:.6g} s: particle {}: the maps' cell sums overflow (the mapped "
-            "bodies' volume is many times the grid's): a volume out of any physical range",
-            sim.steps(), time, P.id[p]));
+      if (overflow) {
+        fault = fmt::format("step {}, time {:.6g} s: particle {}: the maps' cell sums overflow "
+                            "(the mapped bodies' volume is many times the grid's): a volume out "
+                            "of any physical range",
+                            sim.steps(), time, P.id[p]);
+        break;
+      }
     }
   }
-  if (Exchange* ex = sim.exchange()) ex->sum_integers(sums_.data(), sums_.size());
-  const MapGrid& G = settings_.grid;
+  // Every process learns the rows touched anywhere and whether any process failed (one small
+  // collective), so that all of them throw, or all sum, together.
+  double row_lo[2] = {static_cast<double>(lo), 0.0};
+  double row_hi[2] = {static_cast<double>(hi), fault.empty() ? 0.0 : 1.0};
+  Exchange* ex = sim.exchange();
+  if (ex) ex->min_max(row_lo, row_hi, 2);
+  if (row_hi[1] > 0.0) {
+    if (ex) ex->agree_on_failure(fault);
+    throw SimulationError(fault);
+  }
+  rows_lo_ = static_cast<std::int64_t>(row_lo[0]), rows_hi_ = static_cast<std::int64_t>(row_hi[0]);
+  if (rows_hi_ < rows_lo_) return; // nothing moves on the raster
+  std::int64_t* window = sums_.data() + rows_lo_ * row;
+  const std::size_t cells = static_cast<std::size_t>(rows_hi_ - rows_lo_ + 1) * G.nx;
+  if (ex) ex->sum_integers(window, cells * S);
   const double area = G.dx * G.dy;
-  for (std::size_t c = 0; c < G.cells(); ++c) {
-    const std::int64_t* s = sums_.data() + c * S;
+  for (std::size_t k = 0; k < cells; ++k) {
+    const std::int64_t* s = window + k * S;
     if (s[0] <= 0 || s[1] <= 0) continue;
+    const std::size_t c = rows_lo_ * G.nx + k;
     const double V = unfixed(s[0], volume_shift_), m = unfixed(s[1], mass_shift_);
     Vec<D> mv;
     for (int d = 0; d < D; ++d)
@@ -232,18 +282,23 @@ template <int D>
 std::vector<double> PeakMaps<D>::deposit(const Simulation<D>& sim) {
   const auto& P = sim.particles();
   std::vector<std::int64_t> volume(settings_.grid.cells(), 0);
-  for (int b = 0; b < sim.num_bodies(); ++b) {
+  std::string fault;
+  for (int b = 0; b < sim.num_bodies() && fault.empty(); ++b) {
     if (!mapped_[b]) continue;
-    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
+    for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1] && fault.empty(); ++p)
       if (sim.is_own(p))
         if (const std::int64_t c = cell_of(P.x[p]);
             c >= 0 && __builtin_add_overflow(volume[c], fixed(P.vol[p], volume_shift_), &volume[c]))
-          throw SimulationError(fmt::format(
+          fault = fmt::format(
               "step {}, time {:.6g} s: particle {}: the maps' cell sums overflow (the mapped "
               "bodies' volume is many times the grid's): a volume out of any physical range",
-              sim.steps(), sim.time(), P.id[p]));
+              sim.steps(), sim.time(), P.id[p]);
   }
-  if (Exchange* ex = sim.exchange()) ex->sum_integers(volume.data(), volume.size());
+  // An overflow on one process stops every process before the sum.
+  Exchange* ex = sim.exchange();
+  if (ex) ex->agree_on_failure(fault);
+  if (!fault.empty()) throw SimulationError(fault);
+  if (ex) ex->sum_integers(volume.data(), volume.size());
   const double area = settings_.grid.dx * settings_.grid.dy;
   std::vector<double> h(volume.size());
   for (std::size_t c = 0; c < volume.size(); ++c)
@@ -284,6 +339,16 @@ void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
       {"deposit_thickness", "m", "the mapped bodies' thickness at the time written", h});
   one("release_thickness.tif",
       {"release_thickness", "m", "the mapped bodies' thickness at release", release_});
+  std::vector<double> intensity(thickness_.size());
+  for (std::size_t c = 0; c < intensity.size(); ++c)
+    intensity[c] = intensity_class(thickness_[c], speed_[c], M);
+  one("intensity.tif",
+      {"intensity", "class",
+       fmt::format("intensity class: 3 high (peak thickness > {} m and peak speed > {} m/s), "
+                   "2 medium (> {} m and > {} m/s), 1 low (reached otherwise); no data: never "
+                   "reached",
+                   M.high_thickness, M.high_speed, M.medium_thickness, M.medium_speed),
+       intensity});
   // The outlines: where moving material passed, where the bodies lie now, where they started.
   auto outline = [&](const std::string& file, const std::vector<double>& v, const char* name) {
     std::vector<char> inside(v.size());

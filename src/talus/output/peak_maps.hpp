@@ -7,11 +7,12 @@
 //   thickness h = V / A,  depth-averaged speed u = |sum m v| / sum m,
 //   kinetic energy per unit area e = m u^2 / (2 A),  dynamic pressure rho u^2, rho = m / V
 // (A: the cell's area), whose largest values over the run are kept, with the arrival time (the
-// first time h > 0). The deposit thickness is the mapped bodies' whole volume per cell at the
-// time written, the release thickness the same at release; the ground (the DEM, if the maps
-// have one) is written beside them for the pictures (tools/plot_maps.py). The cell sums are
-// fixed-point integers (2^-s units), so they are the same bits in any order: on any number of
-// threads and processes.
+// first time h > 0), and the intensity class of each cell from its peak h and u (the Swiss
+// debris-flow classes by default; intensity_class). The deposit thickness is the mapped bodies'
+// whole volume per cell at the time written, the release thickness the same at release; the ground
+// (the DEM, if the maps have one) is written beside them for the pictures (tools/plot_maps.py). The
+// cell sums are fixed-point integers (2^-s units), so they are the same bits in any order: on any
+// number of threads and processes.
 #pragma once
 
 #include "talus/case/case.hpp"
@@ -42,6 +43,10 @@ void write_geotiff(const std::string& path, const MapGrid& grid,
 // layer named `name`, at `path` (atomically). Throws OutputError.
 void write_outline(const std::string& path, const MapGrid& grid, const std::vector<char>& inside,
                    const std::string& name);
+
+// The intensity class of a cell from its peak thickness h and peak speed v (MapsSettings):
+// 3 high, 2 medium, 1 low, NaN never reached (h = 0).
+double intensity_class(double h, double v, const MapsSettings& m);
 
 template <int D>
 class PeakMaps {
@@ -80,9 +85,10 @@ private:
   std::int64_t cell_of(const Vec<D>& x) const;
 
   MapsSettings settings_;
-  std::vector<char> mapped_;              // per body
-  int volume_shift_ = 0, mass_shift_ = 0; // fixed point: value * 2^shift, rounded
-  std::vector<std::int64_t> sums_;        // per cell: V, m, then m v (D components)
+  std::vector<char> mapped_;                // per body
+  int volume_shift_ = 0, mass_shift_ = 0;   // fixed point: value * 2^shift, rounded
+  std::vector<std::int64_t> sums_;          // per cell: V, m, then m v (D components)
+  std::int64_t rows_lo_ = 0, rows_hi_ = -1; // the raster rows whose sums are not all zero
   std::vector<double> thickness_, speed_, energy_, pressure_, arrival_, release_;
 };
 

@@ -110,6 +110,7 @@ public:
   void sum_disjoint(double* data, std::size_t n) override;
   void sum_exact(ExactSum* sums, std::size_t n) override;
   void sum_integers(std::int64_t* data, std::size_t n) override;
+  void agree_on_failure(std::string failure) override;
   void chunk_sums(int b, std::size_t begin, std::size_t end, const double* value,
                   std::int64_t chunk, std::vector<double>& sums) override;
 
@@ -144,7 +145,6 @@ private:
   // body_begin of particles sorted by global index.
   std::vector<std::size_t> body_begin_of(const std::vector<std::uint32_t>& index) const;
   [[noreturn]] void abort_run(const std::exception& e) const;
-  void agree_on_failure(std::string failure); // throws the first process's failure everywhere
 
   Simulation<D>& sim_;
   ParticleStore<D> store_{sim_}; // the share's door into sim_ (solver/particle_store.hpp)

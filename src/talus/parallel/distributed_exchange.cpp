@@ -61,7 +61,11 @@ void Distributed<D>::sum_exact(ExactSum* sums, std::size_t n) {
 
 template <int D>
 void Distributed<D>::sum_integers(std::int64_t* data, std::size_t n) {
-  MPI_Allreduce(MPI_IN_PLACE, data, static_cast<int>(n), MPI_INT64_T, MPI_SUM, comm_);
+  // MPI counts are int: a longer array goes in pieces.
+  constexpr std::size_t piece = std::size_t{1} << 28;
+  for (std::size_t at = 0; at < n; at += piece)
+    MPI_Allreduce(MPI_IN_PLACE, data + at, static_cast<int>(std::min(piece, n - at)), MPI_INT64_T,
+                  MPI_SUM, comm_);
 }
 
 // A chunk whose particles are all here is summed here; one split between processes has each

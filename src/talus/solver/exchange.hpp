@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace talus {
@@ -37,6 +38,11 @@ public:
   // data[i] <- the sum over the processes of every process's data[i]: integers, so exact in any
   // order (the caller keeps the totals within 63 bits).
   virtual void sum_integers(std::int64_t* data, std::size_t n) = 0;
+  // Throws SimulationError on every process with the lowest failing process's message (`failure`
+  // on each: empty where it did not fail); returns if none failed. A check that may fail on one
+  // process alone goes through here before the next collective, so no process waits for one
+  // that has stopped.
+  virtual void agree_on_failure(std::string failure) = 0;
   // The sums of `value` (one per local particle of body b, local indices [begin, end)) over
   // chunks of `chunk` consecutive global indices of the body, each summed in index order from 0:
   // the same chunk sums one process forms. Only this process's own particles count.

@@ -201,6 +201,25 @@ TEST(PeakMaps, TheGeoTiffCarriesTheGridAndUnits) {
   EXPECT_EQ(rows[5], 2.0f);
 }
 
+// The intensity classes over a sweep of thicknesses and speeds, for the Swiss debris-flow
+// defaults (high: h > 1 m and v > 1 m/s; medium otherwise) and a three-class scheme.
+TEST(PeakMaps, IntensityClassesFollowTheirThresholds) {
+  MapsSettings swiss;
+  MapsSettings three;
+  three.high_thickness = 2.0, three.high_speed = 3.0;
+  three.medium_thickness = 0.5, three.medium_speed = 1.0;
+  for (const double h : {0.0, 0.1, 0.5, 0.99, 1.0, 1.01, 2.0, 2.5, 10.0})
+    for (const double v : {0.2, 0.9, 1.0, 1.5, 3.0, 3.5, 30.0}) {
+      const double a = intensity_class(h, v, swiss), b = intensity_class(h, v, three);
+      if (h == 0.0) {
+        EXPECT_TRUE(std::isnan(a) && std::isnan(b)) << h << ", " << v;
+        continue;
+      }
+      EXPECT_EQ(a, h > 1.0 && v > 1.0 ? 3.0 : 2.0) << h << ", " << v;
+      EXPECT_EQ(b, h > 2.0 && v > 3.0 ? 3.0 : h > 0.5 && v > 1.0 ? 2.0 : 1.0) << h << ", " << v;
+    }
+}
+
 // Bad [maps] tables: the file, the line and the key named.
 TEST(PeakMaps, BadTablesAreNamed) {
   auto error = [](const std::string& maps, int dimension = 3) {
@@ -233,6 +252,9 @@ TEST(PeakMaps, BadTablesAreNamed) {
             std::string::npos);
   EXPECT_NE(error("[maps]\nbodies = [\"block\"]\ncell_size = 1.0\nmoving_speed = 0.0\n")
                 .find("maps.moving_speed: must be > 0"),
+            std::string::npos);
+  EXPECT_NE(error("[maps]\nbodies = [\"block\"]\ncell_size = 1.0\nmedium_speed = 2.0\n")
+                .find("maps.high_speed: must be >= medium_speed"),
             std::string::npos);
   EXPECT_NE(error("[maps]\nbodies = [\"block\"]\ncell_size = 1.0\n", 2).find("a 2D case"),
             std::string::npos);
