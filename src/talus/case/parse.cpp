@@ -129,17 +129,48 @@ MohrCoulombStrength read_strength(TableReader& r) {
   return s;
 }
 
+// model = "fluid": a weakly compressible Newtonian fluid (physics/materials/fluid.hpp).
+Material read_fluid(TableReader& r, Material m, double density) {
+  const std::string solid = "a key of the solid models, not of model 'fluid': remove it";
+  for (const char* key : {"youngs_modulus", "poisson_ratio", "friction_angle", "dilation_angle",
+                          "cohesion", "tension_cutoff", "softening_strain", "residual_cohesion",
+                          "residual_friction_angle", "match", "max_volume_ratio"})
+    r.belongs_elsewhere(key, solid);
+  Fluid f;
+  f.density = density;
+  if (r.has("bulk_modulus") == r.has("sound_speed"))
+    r.fail(r.has("bulk_modulus") ? "sound_speed" : "bulk_modulus",
+           "give one of bulk_modulus (Pa) and sound_speed (m/s, K = rho c^2)");
+  if (r.has("sound_speed")) {
+    const double c = r.number("sound_speed");
+    require(r, "sound_speed", c >= 1.0 && c <= 1e4, "must be between 1 and 10,000 m/s");
+    f.bulk = density * c * c;
+  } else {
+    f.bulk = r.number("bulk_modulus");
+    require(r, "bulk_modulus", f.bulk >= 1.0 && f.bulk <= 1e11, "must be between 1 Pa and 100 GPa");
+  }
+  f.viscosity = r.number("viscosity", 1.0e-3);
+  require(r, "viscosity", f.viscosity >= 0.0 && f.viscosity <= 1e9,
+          "must be between 0 and 1e9 Pa s");
+  f.tension = r.number("tension", 0.0);
+  require(r, "tension", f.tension >= 0.0 && f.tension < f.bulk,
+          "must be >= 0 Pa and below the bulk modulus");
+  m.model = f;
+  return m;
+}
+
 Material read_material(TableReader& r) {
   Material m;
   m.name = r.name("name", "");
-  const std::string model =
-      r.choice("model", {"linear_elastic", "drucker_prager", "mohr_coulomb"}, "linear_elastic");
+  const std::string model = r.choice(
+      "model", {"linear_elastic", "drucker_prager", "mohr_coulomb", "fluid"}, "linear_elastic");
   const double density = r.number("density");
   require(r, "density", density > 0.0, "must be > 0 kg/m^3");
   // Beyond what any material on Earth has (osmium: 22,590), a density is a typo; its time step
   // and run would be absurd.
   require(r, "density", density >= 1.0 && density <= 1e5,
           "must be between 1 and 100,000 kg/m^3 (a material on Earth)");
+  if (model == "fluid") return read_fluid(r, std::move(m), density);
   const double E = r.number("youngs_modulus");
   require(r, "youngs_modulus", E >= 1.0,
           "must be >= 1 Pa (a solid; softer than that the time step exceeds any run)");

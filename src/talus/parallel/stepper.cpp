@@ -2,8 +2,11 @@
 
 #include "talus/parallel/processes.hpp"
 
+#include <fmt/format.h>
 #include <stdexcept>
+#include <variant>
 #ifdef TALUS_MPI
+#include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/distributed.hpp"
 #include "talus/parallel/seed_share.hpp"
 #endif
@@ -104,7 +107,17 @@ private:
 template <int D>
 std::unique_ptr<Stepper<D>> make_stepper(const Case& c, bool restoring) {
 #ifdef TALUS_MPI
-  if (process_count() > 1) return std::make_unique<SharedStepper<D>>(c, restoring);
+  if (process_count() > 1) {
+    // A fluid's pressure is its grid cell's mean volume ratio, summed over the cell's particles
+    // on one process: the processes do not share those sums yet.
+    for (const BodySpec& b : c.bodies)
+      if (std::holds_alternative<Fluid>(c.materials[b.material].model))
+        throw DecompositionError(fmt::format(
+            "body '{}' is a fluid: a case with a fluid body runs on one process (its cells' "
+            "pressure is not shared between processes); run it without mpirun",
+            b.name));
+    return std::make_unique<SharedStepper<D>>(c, restoring);
+  }
 #endif
   (void)restoring;
   return std::make_unique<LocalStepper<D>>(c);

@@ -47,6 +47,17 @@ void apply_k0_stress(const Case& c, Particles<D>& P) {
         k0 = nu / (1.0 - nu);
       }
       if (c.bodies[b].rigid) continue;
+      if (const auto* f = std::get_if<Fluid>(&c.materials[c.bodies[b].material].model)) {
+        // Hydrostatic, p = -sigma_v, held by the fluid's state: the volume ratio J(p), its
+        // seeded volume the compressed one (V_0 = V / J).
+        const double J = f->volume_ratio(-sigma_v);
+        P.F[p] = Mat<D>::Identity() * std::pow(J, 1.0 / D);
+        P.vol0[p] = P.vol[p] / J;
+        P.stress[p] = Voigt::Zero();
+        for (int i = 0; i < 3; ++i)
+          P.stress[p][i] = sigma_v;
+        continue;
+      }
       Voigt s = Voigt::Zero();
       for (int i = 0; i < 3; ++i)
         s[i] = k0 * sigma_v;

@@ -30,6 +30,8 @@ void add_energy_terms(const Simulation<D>& sim, int b, bool own_only, ExactSum& 
   const bool buoyant = W.on && body.buoyancy > 0.0;
   const double K = std::visit([](const auto& m) { return m.bulk_modulus(); }, body.material.model);
   const double G = std::visit([](const auto& m) { return m.shear_modulus(); }, body.material.model);
+  // A fluid's: its equation of state's stored energy (its deviatoric stress is viscous).
+  const Fluid* fluid = std::get_if<Fluid>(&body.material.model);
   for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p) {
     if (own_only && !sim.is_own(p)) continue;
     gravity += P.m[p] * sim.setup().gravity.dot(P.x[p] - P.x0[p]);
@@ -37,7 +39,10 @@ void add_energy_terms(const Simulation<D>& sim, int b, bool own_only, ExactSum& 
       gravity += body.buoyancy * P.m[p] * W.g *
                  (submerged_integral(W.level, W.up.dot(P.x0[p]), body.particle_height) -
                   submerged_integral(W.level, W.up.dot(P.x[p]), body.particle_height));
-    if (!body.rigid) strain += elastic_energy(P.stress[p], P.vol[p], K, G);
+    if (fluid)
+      strain += P.vol0[p] * fluid->stored_energy(P.vol[p] / P.vol0[p]);
+    else if (!body.rigid)
+      strain += elastic_energy(P.stress[p], P.vol[p], K, G);
   }
 }
 

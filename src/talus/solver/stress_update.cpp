@@ -11,9 +11,22 @@
 #include <fmt/format.h>
 #include <limits>
 #include <numeric>
+#include <type_traits>
 #include <variant>
 
 namespace talus {
+
+namespace {
+
+// A particle's stress work over a step, midpoint rule: (V sigma) : D dt.
+double stress_work(double vol_old, const Voigt& sigma_old, double vol, const Voigt& sigma,
+                   const Mat3& D3, double dt) {
+  const Voigt s = 0.5 * (vol_old * sigma_old + vol * sigma);
+  return dt * (s[0] * D3(0, 0) + s[1] * D3(1, 1) + s[2] * D3(2, 2) +
+               2.0 * (s[3] * D3(0, 1) + s[4] * D3(1, 2) + s[5] * D3(0, 2)));
+}
+
+} // namespace
 
 // Eq. 24-28. Reads the field array `velocity` and the shape-weight cache; writes every
 // deformable particle's F, volume, stress and plastic strain, and the bodies' stress work.
@@ -34,6 +47,7 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
   shape_.require(steps_, particles_.size());
   const double max_J = setup_.bodies[b].material.max_volume_ratio;
   const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+  constexpr bool fluid = std::is_same_v<Model, Fluid>;
   std::atomic<std::size_t> bad{P.size()}, gone{StepCheck::no_particle};
   // Particles go in fixed chunks so that the stress work sums in an order that does not depend
   // on the thread count (chunk sums, then the chunks in order).
@@ -72,11 +86,13 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
       const Mat3 L3 = embed<D>(L);
       const Mat3 D3 = 0.5 * (L3 + L3.transpose());
       const Voigt sigma_old = P.stress[p];
-      talus::update_stress(model, P.stress[p], P.eps_p[p], D3, 0.5 * (L3 - L3.transpose()), dt);
-      // Stress work over the step, midpoint rule: (V sigma) : D dt.
-      const Voigt s = 0.5 * (vol_old * sigma_old + P.vol[p] * P.stress[p]);
-      const double w = dt * (s[0] * D3(0, 0) + s[1] * D3(1, 1) + s[2] * D3(2, 2) +
-                             2.0 * (s[3] * D3(0, 1) + s[4] * D3(1, 2) + s[5] * D3(0, 2)));
+      if constexpr (fluid) { // a state function of J; the fluid keeps no shape
+        P.F[p] = Mat<D>::Identity() * std::pow(J, 1.0 / D);
+        P.stress[p] = fluid_stress(model, model.pressure(J), D3);
+      } else {
+        talus::update_stress(model, P.stress[p], P.eps_p[p], D3, 0.5 * (L3 - L3.transpose()), dt);
+      }
+      const double w = stress_work(vol_old, sigma_old, P.vol[p], P.stress[p], D3, dt);
       work += w;
       if (particle_work) particle_work[p] = w;
       if (!P.stress[p].allFinite())

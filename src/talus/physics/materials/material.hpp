@@ -3,6 +3,7 @@
 #pragma once
 
 #include "talus/physics/materials/drucker_prager.hpp"
+#include "talus/physics/materials/fluid.hpp"
 #include "talus/physics/materials/linear_elastic.hpp"
 #include "talus/physics/materials/mohr_coulomb.hpp"
 
@@ -12,7 +13,7 @@
 
 namespace talus {
 
-using MaterialModel = std::variant<LinearElastic, DruckerPrager, MohrCoulomb>;
+using MaterialModel = std::variant<LinearElastic, DruckerPrager, MohrCoulomb, Fluid>;
 
 struct Material {
   std::string name;

@@ -1,0 +1,156 @@
+// The fluid material (model = "fluid", physics/materials/fluid.hpp) against closed forms: a tank
+// started hydrostatic keeps its pressure p = rho g (H - y) and stays still for 10 s, at two
+// depths and sound speeds, in 2D and 3D; a column released without stress settles to the
+// shortening its equation of state gives, at two bulk moduli.
+#include "talus/solver/simulation.hpp"
+#include "test_support.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+namespace talus {
+namespace {
+
+constexpr double g = 9.81, rho = 1000.0;
+
+// Water of depth H in a tank W wide (and deep in 3D) with slip walls, sound speed c, on cells h.
+std::string tank(int dim, double W, double H, double c, double h, bool hydrostatic,
+                 double damping = 0.0) {
+  const bool three = dim == 3;
+  return fmt::format(R"(
+[simulation]
+dimension = {0}
+end_time = 10.0
+cfl = 0.4
+gravity = {1}
+scheme = "musl"
+flip = 0.99
+damping = {7}
+[grid]
+extent = {2}
+cell_size = {3}
+shape_function = "gimp"
+[grid.boundary]
+x_min = "slip"
+x_max = "slip"
+y_min = "slip"
+{9}
+[[material]]
+name = "water"
+model = "fluid"
+density = 1000.0
+sound_speed = {4}
+viscosity = 1.0e-3
+[[body]]
+name = "water"
+material = "water"
+box = {{ min = {5}, max = {6} }}
+{8}
+)",
+                     dim, three ? "[0.0, 0.0, -9.81]" : "[0.0, -9.81]",
+                     three ? fmt::format("[{0}, {0}, {1}]", W, 1.5 * H)
+                           : fmt::format("[{}, {}]", W, 1.5 * H),
+                     h, c, three ? "[0.0, 0.0, 0.0]" : "[0.0, 0.0]",
+                     three ? fmt::format("[{0}, {0}, {1}]", W, H) : fmt::format("[{}, {}]", W, H),
+                     damping, hydrostatic ? "[initial_state]\nmethod = \"k0\"" : "",
+                     three ? "y_max = \"slip\"\nz_min = \"slip\"" : "");
+}
+
+// The least-squares line p = a + b z through the particles' pressures (z: up) and the RMS of
+// the particles' pressures about it; the largest particle speed.
+struct PressureFit {
+  double a = 0.0, b = 0.0, rms = 0.0, max_speed = 0.0, rms_speed = 0.0;
+};
+
+template <int D>
+PressureFit fit(const Simulation<D>& sim) {
+  const auto& P = sim.particles();
+  double n = 0, sz = 0, sp = 0, szz = 0, szp = 0, m = 0, mv2 = 0;
+  PressureFit f;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const double z = P.x[p][D - 1], pr = -mean_stress(P.stress[p]);
+    n += 1, sz += z, sp += pr, szz += z * z, szp += z * pr;
+    f.max_speed = std::max(f.max_speed, P.v[p].norm());
+    m += P.m[p], mv2 += P.m[p] * P.v[p].squaredNorm();
+  }
+  f.rms_speed = std::sqrt(mv2 / m);
+  f.b = (n * szp - sz * sp) / (n * szz - sz * sz);
+  f.a = (sp - f.b * sz) / n;
+  double r2 = 0.0;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const double r = -mean_stress(P.stress[p]) - (f.a + f.b * P.x[p][D - 1]);
+    r2 += r * r;
+  }
+  f.rms = std::sqrt(r2 / n);
+  return f;
+}
+
+// Started hydrostatic: the bottom pressure rho g H within 1 % (the line's value at z = 0), its
+// gradient -rho g within 1 %, the particles' scatter about the line under 2 % of rho g H, at
+// release and after `end` seconds (no drift), and the water still (its mass-weighted RMS speed
+// below 1e-3 sqrt(g H); single particles jitter at a few times that).
+template <int D>
+void hydrostatic_tank(double W, double H, double c, double h, double end) {
+  const Case cs = test::case_from(tank(D, W, H, c, h, true));
+  Simulation<D> sim(cs);
+  const double pb = rho * g * H;
+  auto check = [&](const char* when) {
+    const PressureFit f = fit(sim);
+    const std::string figures =
+        fmt::format("{}D, H {} m, c {} m/s, h {} m, {}: p(0) {:.1f} Pa against {:.1f}, dp/dz "
+                    "{:.1f} against {:.1f}, scatter {:.1f} Pa, speed rms {:.2e}, max {:.2e} m/s",
+                    D, H, c, h, when, f.a, pb, f.b, -rho * g, f.rms, f.rms_speed, f.max_speed);
+    std::printf("%s\n", figures.c_str());
+    SCOPED_TRACE(figures);
+    EXPECT_NEAR(f.a, pb, 0.01 * pb);
+    EXPECT_NEAR(f.b, -rho * g, 0.01 * rho * g);
+    EXPECT_LT(f.rms, 0.02 * pb);
+    EXPECT_LT(f.rms_speed, 1e-3 * std::sqrt(g * H));
+  };
+  check("at release");
+  while (sim.time() < end - 1e-12)
+    sim.step(end - sim.time());
+  check("at the end");
+}
+
+TEST(Fluid, HydrostaticTankKeepsItsPressureAndStaysStill) {
+  hydrostatic_tank<2>(1.0, 1.0, 30.0, 0.05, 10.0);
+  hydrostatic_tank<2>(2.0, 2.0, 20.0, 0.1, 10.0);
+  hydrostatic_tank<3>(0.5, 0.5, 20.0, 0.05, 4.0);
+}
+
+// Released without stress and damped to rest, a column shortens by what its equation of state
+// gives, p = K (1 / J - 1) with p = rho g (H - Z) at reference height Z: the top particle (at
+// Z = H - h / 4) sinks by d = int_0^Z p / (K + p) dZ', within 1 %, for two bulk moduli.
+TEST(Fluid, ColumnShortensAsItsEquationOfStateGives) {
+  const double H = 1.0, h = 0.05;
+  for (const double c : {20.0, 40.0}) {
+    Case cs = test::case_from(tank(2, 1.0, H, c, h, false, 0.2));
+    Simulation<2> sim(cs);
+    const double K = rho * c * c, Z = H - h / 4;
+    double d = 0.0;
+    const int n = 10000;
+    for (int i = 0; i < n; ++i) {
+      const double p = rho * g * (H - (i + 0.5) * Z / n);
+      d += p / (K + p) * Z / n;
+    }
+    while (sim.time() < 4.0 - 1e-12)
+      sim.step(4.0 - sim.time());
+    const auto& P = sim.particles();
+    double top = 0.0, top0 = 0.0;
+    int count = 0;
+    for (std::size_t p = 0; p < P.size(); ++p)
+      if (P.x0[p][1] > H - h / 2) top += P.x[p][1], top0 += P.x0[p][1], ++count;
+    const double sink = (top0 - top) / count;
+    std::printf("column, c %g m/s: the top sinks %.6g m against %.6g (%+.3f %%)\n", c, sink, d,
+                100.0 * (sink / d - 1.0));
+    EXPECT_NEAR(sink, d, 0.01 * d) << "c " << c << " m/s: the top sinks " << sink << " m against "
+                                   << d << " (rho g H^2 / 2K = " << rho * g * H * H / (2 * K)
+                                   << ")";
+  }
+}
+
+} // namespace
+} // namespace talus
