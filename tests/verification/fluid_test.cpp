@@ -1,7 +1,8 @@
 // The fluid material (model = "fluid", physics/materials/fluid.hpp) against closed forms: a tank
 // started hydrostatic keeps its pressure p = rho g (H - y) and stays still for 10 s, at two
 // depths and sound speeds, in 2D and 3D; a column released without stress settles to the
-// shortening its equation of state gives, at two bulk moduli.
+// shortening its equation of state gives, at two bulk moduli; a tank sloshes at the period of
+// linear wave theory, at two depths.
 #include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
@@ -9,6 +10,9 @@
 #include <cstdio>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <numbers>
+#include <string>
+#include <vector>
 
 namespace talus {
 namespace {
@@ -149,6 +153,58 @@ TEST(Fluid, ColumnShortensAsItsEquationOfStateGives) {
     EXPECT_NEAR(sink, d, 0.01 * d) << "c " << c << " m/s: the top sinks " << sink << " m against "
                                    << d << " (rho g H^2 / 2K = " << rho * g * H * H / (2 * K)
                                    << ")";
+  }
+}
+
+// The first sloshing mode of a tank L long with water h deep, released from the surface
+// h + a cos(pi x / L) with its hydrostatic pressure: its period within 2 % of linear wave
+// theory's, omega^2 = g k tanh(k h) with k = pi / L, at two depths. The period is twice the
+// mean time between the zero crossings of the surface at the left wall (the particles' top row
+// there, less its mean).
+TEST(Fluid, SloshingPeriodIsLinearWaveTheorys) {
+  const double L = 1.0, a = 0.01, cell = 0.025, k = std::numbers::pi / L;
+  for (const double depth : {0.5, 0.25}) {
+    std::string surface;
+    for (int i = 40; i >= 0; --i) {
+      const double x = L * i / 40.0;
+      surface += fmt::format(", [{:.17g}, {:.17g}]", x, depth + a * std::cos(k * x));
+    }
+    std::string text = tank(2, L, depth, 20.0, cell, true);
+    const std::size_t box = text.find("box = ");
+    text.replace(box, text.find('\n', box) - box,
+                 fmt::format("polygon = [[0.0, 0.0], [{}, 0.0]{}]", L, surface));
+    const Case cs = test::case_from(text);
+    Simulation<2> sim(cs);
+    const double T = 2.0 * std::numbers::pi / std::sqrt(g * k * std::tanh(k * depth));
+    // The surface at the left wall: the mean height of the top row of particles within a cell
+    // of it (found by position: the particles are reordered as they are sorted by cell).
+    const auto& P = sim.particles();
+    auto surface_at_wall = [&] {
+      double high = 0.0, sum = 0.0;
+      int n = 0;
+      for (std::size_t p = 0; p < P.size(); ++p)
+        if (P.x[p][0] < cell) high = std::max(high, P.x[p][1]);
+      for (std::size_t p = 0; p < P.size(); ++p)
+        if (P.x[p][0] < cell && P.x[p][1] > high - 0.25 * cell) sum += P.x[p][1], ++n;
+      return sum / n;
+    };
+    std::vector<double> t, y;
+    while (sim.time() < 3.5 * T) {
+      sim.step(3.5 * T - sim.time());
+      t.push_back(sim.time()), y.push_back(surface_at_wall());
+    }
+    double mean = 0.0;
+    for (const double v : y)
+      mean += v / y.size();
+    std::vector<double> crossings;
+    for (std::size_t i = 1; i < y.size(); ++i)
+      if ((y[i - 1] - mean) * (y[i] - mean) < 0.0)
+        crossings.push_back(t[i - 1] + (t[i] - t[i - 1]) * (mean - y[i - 1]) / (y[i] - y[i - 1]));
+    ASSERT_GE(crossings.size(), 5u) << "depth " << depth;
+    const double measured = 2.0 * (crossings.back() - crossings.front()) / (crossings.size() - 1);
+    std::printf("sloshing, depth %g m: period %.4f s against %.4f (%+.2f %%), %zu crossings\n",
+                depth, measured, T, 100.0 * (measured / T - 1.0), crossings.size());
+    EXPECT_NEAR(measured, T, 0.02 * T) << "depth " << depth;
   }
 }
 
