@@ -150,9 +150,9 @@ TEST(Fluid, ColumnShortensAsItsEquationOfStateGives) {
     const double sink = (top0 - top) / count;
     std::printf("column, c %g m/s: the top sinks %.6g m against %.6g (%+.3f %%)\n", c, sink, d,
                 100.0 * (sink / d - 1.0));
-    EXPECT_NEAR(sink, d, 0.01 * d) << "c " << c << " m/s: the top sinks " << sink << " m against "
-                                   << d << " (rho g H^2 / 2K = " << rho * g * H * H / (2 * K)
-                                   << ")";
+    EXPECT_NEAR(sink, d, 0.01 * d)
+        << "c " << c << " m/s: the top sinks " << sink << " m against " << d
+        << " (rho g H^2 / 2K = " << rho * g * H * H / (2 * K) << ")";
   }
 }
 
