@@ -78,6 +78,7 @@ struct BodySpec {
   bool geometric_normal = false;  // contact normal from the geometry (default: if rigid)
   double lattice_angle = 0.0;     // 2D: rotation (radians) of the particle lattice about the
                                   // first polygon vertex, so an inclined edge is seeded straight
+  bool fill_around = false;       // the geometry less every other body's (a reservoir's water)
 };
 
 // Friction between a pair of bodies; pairs not listed use ContactSettings::friction.

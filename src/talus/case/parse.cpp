@@ -258,6 +258,10 @@ void read_bodies(TableReader& root, Case& c, InputFiles& files, const MemoryBudg
       require(r, "lattice_angle", std::abs(a) <= 90.0, "must be in [-90, 90] degrees");
       b.lattice_angle = a * degrees;
     }
+    b.fill_around = r.boolean("fill_around", false);
+    if (b.fill_around && b.lattice_angle != 0.0)
+      r.fail("fill_around", "a body filling around the others is seeded on the grid's lattice: "
+                            "remove lattice_angle");
     Vec3a lo{}, hi{};
     Geometry& g = b.geometry[0];
     // A terrain body without a footprint is the part of its rasters inside the grid.

@@ -53,7 +53,24 @@ void for_each_rotated_seed(const Case& c, const BodySpec& b, F&& f) {
 }
 
 template <int D, class F>
+void for_each_lattice_seed(const Case& c, const BodySpec& b, F&& f);
+
+// Calls f(position) for each seed of body b: its lattice inside its geometry, and for a body that
+// fills around the others (fill_around: a reservoir) only where no other body's geometry is.
+template <int D, class F>
 void for_each_seed(const Case& c, const BodySpec& b, F&& f) {
+  if (!b.fill_around) return for_each_lattice_seed<D>(c, b, f);
+  for_each_lattice_seed<D>(c, b, [&](const Vec<D>& x) {
+    for (const BodySpec& o : c.bodies)
+      if (&o != &b)
+        for (const Geometry& g : o.geometry)
+          if (inside<D>(g, x)) return;
+    f(x);
+  });
+}
+
+template <int D, class F>
+void for_each_lattice_seed(const Case& c, const BodySpec& b, F&& f) {
   if constexpr (D == 2) {
     if (b.lattice_angle != 0.0) {
       for_each_rotated_seed(c, b, f);

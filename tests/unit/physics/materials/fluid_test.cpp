@@ -1,6 +1,8 @@
 // The fluid material (physics/materials/fluid.hpp): its equation of state and inverse, its
 // stored energy (p = -dW/dJ), the viscous deviator, the tension cut, and the case file's keys.
 #include "talus/physics/materials/fluid.hpp"
+#include "talus/setup/interface.hpp"
+#include "talus/setup/seeds.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -74,6 +76,51 @@ density = 1000.0
             std::string::npos);
   EXPECT_NE(error("sound_speed = 20.0\ntension = 1e9\n").find("material[0].tension"),
             std::string::npos);
+}
+
+// A body that fills around the others (fill_around: a reservoir around a slope) takes its
+// geometry's lattice less every other body's: the two together fill the box, without overlap.
+TEST(Fluid, AReservoirFillsAroundTheOtherBodies) {
+  const std::string text = R"(
+[simulation]
+dimension = 2
+end_time = 1.0
+[grid]
+extent = [1.0, 1.0]
+cell_size = 0.1
+[[material]]
+name = "water"
+model = "fluid"
+density = 1000.0
+sound_speed = 20.0
+[[material]]
+name = "rock"
+density = 2000.0
+youngs_modulus = 1e7
+poisson_ratio = 0.3
+[[body]]
+name = "rock"
+material = "rock"
+polygon = [[0.0, 0.0], [1.0, 0.0], [0.0, 0.7]]
+[[body]]
+name = "water"
+material = "water"
+box = { min = [0.0, 0.0], max = [1.0, 0.5] }
+fill_around = true
+)";
+  const Case c = test::case_from(text);
+  const Particles<2> P = fill_particles<2>(c);
+  // 0.05 m spacing: 20 x 10 seeds below the level, less those inside the rock's triangle.
+  std::size_t in_rock_below = 0;
+  for (std::size_t p = P.body_begin[0]; p < P.body_begin[1]; ++p)
+    in_rock_below += P.x[p][1] < 0.5;
+  EXPECT_EQ(P.body_begin[2] - P.body_begin[1], 200 - in_rock_below);
+  for (std::size_t p = P.body_begin[1]; p < P.body_begin[2]; ++p)
+    EXPECT_GT(P.x[p][1] + 0.7 * P.x[p][0] - 0.7, 0.0) << "a water seed inside the rock";
+  EXPECT_NO_THROW(check_body_overlaps<2>(c, P));
+  std::string rotated = text;
+  rotated.insert(rotated.rfind("fill_around"), "lattice_angle = 10.0\n");
+  EXPECT_THROW(test::case_from(rotated), CaseError);
 }
 
 } // namespace
