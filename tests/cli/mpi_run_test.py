@@ -8,7 +8,8 @@ in summary.json. Then: a run stopped on 2 processes
 reading its slab of the older checkpoint); a process killed with SIGKILL stops the others
 and leaves its newest checkpoint readable, and a one-process restart from it ends identical; the
 3D volcano slide's hazard maps (GeoTIFFs) on 2 and 3 processes are the one-process run's, and a
-mapped particle too fast for the maps stops every process; a grid too narrow for the processes is refused with a message naming its columns; a bad case's
+mapped particle too fast for the maps stops every process; a case with a fluid body is refused;
+a grid too narrow for the processes is refused with a message naming its columns; a bad case's
 error is printed once, not once per process.
 
 Usage: mpi_run_test.py TALUS_SERIAL TALUS_MPI MPIEXEC SOURCE_DIR WORK_DIR
@@ -195,6 +196,13 @@ rc, out = run([*mpi(4, 1), "run", str(source / "cases/benchmarks/cohesive_block.
 if rc != 2 or "cell columns" not in out:
     failures.append(f"narrow grid: exit {rc}, expected 2 with the columns named: {out[-800:]}")
 
+# A fluid body runs on one process: refused under mpirun, naming the body.
+d = fresh("fluid")
+rc, out = run([*mpi(2, 1), "run", str(source / "cases/examples/sloshing_tank.toml"), "--out",
+               str(d)], 1)
+if rc != 2 or "body 'water' is a fluid" not in out:
+    failures.append(f"fluid on 2 processes: exit {rc}, expected 2 and the body named: {out[-800:]}")
+
 # A bad case: every process reads it and fails alike; the error is printed once.
 d = fresh("bad_case")
 rc, out = run([*mpi(3, 1), "run", str(case), "--out", str(d), "--set", "grid.cell_size=-1"], 1)
@@ -206,4 +214,4 @@ if failures:
     sys.exit(1)
 print("mpi run folders identical to the one-process run (2, 3, 4 processes x 1, 2 threads; "
       "2 -> 3 restart; killed process; blow-up reported as failed; hazard maps on 2 and 3 "
-      "processes, and stopped on all when a particle is too fast; narrow grid refused; bad case reported once)")
+      "processes, and stopped on all when a particle is too fast; fluid refused; narrow grid refused; bad case reported once)")
