@@ -7,6 +7,10 @@ reached with a margin of half its size (--whole: the whole raster). Cells the fi
 reached are left clear; the intensity classes are drawn in the colours of Swiss hazard maps
 (low yellow, medium blue, high red) with their thresholds. Written to RUN_DIR/plots/map_FIELD.png (or --out DIR).
 
+A 2D run's maps (maps/profile.csv) are drawn as its profile along the section: thickness
+(peak, deposit, release), peak speed (shaded by intensity class: blue medium, red high) and
+arrival time against x, in RUN_DIR/plots/profile.png.
+
 Usage: plot_maps.py RUN_DIR [--out DIR] [--contour M] [--whole]
 """
 import argparse
@@ -46,6 +50,41 @@ if not maps.is_dir():
     raise SystemExit(f"{maps}: no maps (the case has no [maps] table)")
 out = Path(a.out) if a.out else run / "plots"
 out.mkdir(parents=True, exist_ok=True)
+
+
+def plot_profile(path):
+    """A 2D run's maps: the profile along the section (maps/profile.csv) as three panels."""
+    rows = np.genfromtxt(path, delimiter=",", names=True, skip_header=1)
+    x = rows["x"]
+    fig, axes = plt.subplots(3, 1, figsize=(8.0, 7.5), sharex=True)
+    axes[0].fill_between(x, rows["release_thickness"], step="mid", color="0.8",
+                         label="release")
+    axes[0].step(x, rows["peak_thickness"], where="mid", color="C0", label="peak (moving)")
+    axes[0].step(x, rows["deposit_thickness"], where="mid", color="C3", label="deposit")
+    axes[0].set_ylabel("thickness (m)")
+    axes[0].legend(fontsize=8)
+    axes[1].step(x, rows["peak_speed"], where="mid", color="C1")
+    axes[1].set_ylabel("peak speed (m/s)")
+    for level, colour in ((2, "#2f6fd6"), (3, "#d7191c")):
+        band = rows["intensity"] == level
+        axes[1].fill_between(x, 0, rows["peak_speed"], where=band, step="mid", color=colour,
+                             alpha=0.25)
+    axes[2].step(x, rows["arrival_time"], where="mid", color="C2")
+    axes[2].set_ylabel("arrival time (s)")
+    axes[2].set_xlabel("x (m)")
+    with open(path) as f:
+        axes[0].set_title("Profile along the section: " + f.readline().lstrip("# ").split(";")[0],
+                          fontsize=9)
+    fig.tight_layout()
+    target = out / "profile.png"
+    fig.savefig(target, dpi=130)
+    plt.close(fig)
+    print(f"wrote {target}")
+
+
+if (maps / "profile.csv").exists():
+    plot_profile(maps / "profile.csv")
+    raise SystemExit(0)
 
 
 def read(stem):

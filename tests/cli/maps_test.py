@@ -5,7 +5,8 @@ georeferencing, units and no data; the fields are consistent with each other (a 
 and an arrival time where, and only where, moving material passed; the pressure is rho u^2 with
 rho between the slide's density and its loosened state; the release area lies inside the
 reached cells); the outlines (GeoJSON) enclose exactly the cells reached, deposited and
-released; and tools/plot_maps.py draws every field.
+released; and tools/plot_maps.py draws every field; a 2D run writes its profile along the section (maps/profile.csv), which
+plot_maps.py draws.
 
 Usage: maps_test.py TALUS SOURCE_DIR WORK_DIR
 """
@@ -107,6 +108,24 @@ p = subprocess.run(["/usr/bin/python3", str(source / "tools/plot_maps.py"), str(
 pngs = sorted((run / "plots").glob("map_*.png"))
 if p.returncode != 0 or len(pngs) != 7 or min(f.stat().st_size for f in pngs) < 20000:
     failures.append(f"plot_maps.py: exit {p.returncode}, {[f.name for f in pngs]}: {p.stderr}")
+# 2D: the maps are the profile along the section (maps/profile.csv), drawn as profile.png.
+section = work / "section"
+p = subprocess.run([talus, "run", str(source / "cases/benchmarks/sliding_block.toml"), "--out",
+                    str(section), "--set", 'maps.bodies=["block"]', "--set", "maps.cell_size=0.5",
+                    "--set", "simulation.end_time=1.0", "--threads", "2"],
+                   capture_output=True, text=True, timeout=600)
+profile = section / "maps" / "profile.csv"
+if p.returncode != 0 or not profile.exists():
+    failures.append(f"2D maps: exit {p.returncode}: {p.stderr[-800:]}")
+else:
+    rows = np.genfromtxt(profile, delimiter=",", names=True, skip_header=1)
+    if not (rows["peak_thickness"] > 0).any() or rows["peak_speed"].max() <= 0.1:
+        failures.append(f"2D maps: nothing moved in {profile}")
+    p = subprocess.run(["/usr/bin/python3", str(source / "tools/plot_maps.py"), str(section)],
+                       capture_output=True, text=True, timeout=300)
+    png = section / "plots" / "profile.png"
+    if p.returncode != 0 or not png.exists() or png.stat().st_size < 20000:
+        failures.append(f"plot_maps.py on a 2D run: exit {p.returncode}: {p.stderr}")
 for f in failures:
     print("FAIL", f)
 print(f"maps: {reached.sum()} cells reached, peak {h.max():.1f} m, {u.max():.1f} m/s; "

@@ -102,8 +102,6 @@ void read_maps(TableReader& root, Case& c) {
     m.bodies.push_back(b);
   }
   if (m.bodies.empty()) r.fail("bodies", "name at least one body, e.g. bodies = [\"slide\"]");
-  if (c.simulation.dimension != 3)
-    r.fail("bodies", "maps are rasters of a 3D run's ground plan; a 2D case has none");
   m.moving_speed = r.number("moving_speed", m.moving_speed);
   require(r, "moving_speed", m.moving_speed > 0.0, "must be > 0 m/s");
   m.high_thickness = r.number("high_thickness", m.high_thickness);
@@ -122,6 +120,17 @@ void read_maps(TableReader& root, Case& c) {
     for (const Geometry& g : c.bodies[b].geometry)
       if (!dem && g.kind == Geometry::Kind::terrain && g.top.raster) dem = g.top.raster;
   MapGrid& G = m.grid;
+  if (c.simulation.dimension == 2) { // a profile along the section: one row of cells along x
+    if (!r.has("cell_size")) r.fail_missing("cell_size");
+    const double h = r.number("cell_size");
+    require(r, "cell_size", h > 0.0, "must be > 0 m");
+    const double nx = std::ceil(c.grid.extent[0] / h - 1e-9);
+    require(r, "cell_size", nx <= 1e8, "gives more than 1e8 profile cells");
+    G.x0 = c.grid.origin[0], G.dx = h, G.nx = static_cast<int>(nx);
+    G.y0 = c.grid.origin[1], G.dy = c.grid.extent[1], G.ny = 1;
+    r.finish();
+    return;
+  }
   G.origin = {c.terrain_origin[0], c.terrain_origin[1]};
   m.dem = dem, m.origin_z = c.terrain_origin[2];
   if (const std::optional<double> h = r.optional_number("cell_size")) {

@@ -196,6 +196,11 @@ PeakMaps<D>::PeakMaps(const Case& c, const Simulation<D>& sim) : settings_(c.map
 }
 
 template <int D>
+double PeakMaps<D>::cell_area() const {
+  return D == 2 ? settings_.grid.dx : settings_.grid.dx * settings_.grid.dy;
+}
+
+template <int D>
 std::int64_t PeakMaps<D>::cell_of(const Vec<D>& x) const {
   const MapGrid& G = settings_.grid;
   const double fi = std::floor((x[0] - G.x0) / G.dx), fj = std::floor((x[1] - G.y0) / G.dy);
@@ -260,7 +265,7 @@ void PeakMaps<D>::accumulate(const Simulation<D>& sim, double time) {
   std::int64_t* window = sums_.data() + rows_lo_ * row;
   const std::size_t cells = static_cast<std::size_t>(rows_hi_ - rows_lo_ + 1) * G.nx;
   if (ex) ex->sum_integers(window, cells * S);
-  const double area = G.dx * G.dy;
+  const double area = cell_area();
   for (std::size_t k = 0; k < cells; ++k) {
     const std::int64_t* s = window + k * S;
     if (s[0] <= 0 || s[1] <= 0) continue;
@@ -299,7 +304,7 @@ std::vector<double> PeakMaps<D>::deposit(const Simulation<D>& sim) {
   if (ex) ex->agree_on_failure(fault);
   if (!fault.empty()) throw SimulationError(fault);
   if (ex) ex->sum_integers(volume.data(), volume.size());
-  const double area = settings_.grid.dx * settings_.grid.dy;
+  const double area = cell_area();
   std::vector<double> h(volume.size());
   for (std::size_t c = 0; c < volume.size(); ++c)
     h[c] = unfixed(volume[c], volume_shift_) / area;
@@ -319,6 +324,7 @@ void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
       {"TALUS_TIME_S", fmt::format("{:.9g}", sim.time())}};
   const std::string dir = folder + "/maps";
   make_folder(dir);
+  if constexpr (D == 2) return write_profile(dir + "/profile.csv", h, bodies, sim.time());
   const std::string moving = fmt::format("of material moving faster than {} m/s", M.moving_speed);
   auto one = [&](const std::string& file, MapLayer layer) {
     write_geotiff(dir + "/" + file, M.grid, {std::move(layer)}, meta);
@@ -368,6 +374,27 @@ void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
             M.dem->elevation(G.x0 + (i + 0.5) * G.dx, G.y0 + (j + 0.5) * G.dy) + M.origin_z;
     one("elevation.tif", {"elevation", "m", "the ground (the DEM the maps are on)", z});
   }
+}
+
+// The 2D maps: one row per cell along x, at the cell's centre; empty where not reached.
+template <int D>
+void PeakMaps<D>::write_profile(const std::string& path, const std::vector<double>& h,
+                                const std::string& bodies, double time) const {
+  const MapGrid& G = settings_.grid;
+  std::string text = fmt::format(
+      "# {} moving faster than {} m/s, to t = {:.6g} s; thickness m (area per unit width / cell "
+      "length), "
+      "speed m/s, kinetic energy J/m^2, pressure Pa, arrival s; intensity 3 high, 2 medium, 1 "
+      "low\nx,peak_thickness,peak_speed,peak_kinetic_energy,peak_pressure,arrival_time,"
+      "intensity,deposit_thickness,release_thickness\n",
+      bodies, settings_.moving_speed, time);
+  auto value = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{:.9g}", v); };
+  for (int i = 0; i < G.nx; ++i)
+    text += fmt::format(
+        "{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{},{:.9g},{:.9g}\n", G.x0 + (i + 0.5) * G.dx,
+        thickness_[i], speed_[i], energy_[i], pressure_[i], value(arrival_[i]),
+        value(intensity_class(thickness_[i], speed_[i], settings_)), h[i], release_[i]);
+  write_file_atomic(path, text);
 }
 
 template class PeakMaps<2>;

@@ -1,6 +1,7 @@
 // Hazard maps ([maps], docs/case-file.md): the peak fields of the mapped bodies' moving material
 // on a horizontal raster, accumulated every step from release, and their deposit; written as
-// GeoTIFFs into the run folder's maps/.
+// GeoTIFFs into the run folder's maps/ (3D), or as a profile along the section, one row of
+// cells along x, into maps/profile.csv (2D).
 //
 // Each step, the moving particles (|v| > moving_speed) of each raster cell give its column's
 // volume V, mass m and momentum m v, and from them
@@ -83,6 +84,12 @@ public:
 private:
   // The raster cell of a point, or -1 outside the raster.
   std::int64_t cell_of(const Vec<D>& x) const;
+  // A cell's area (2D: its length along x; the volumes are per unit width).
+  double cell_area() const;
+  // 2D: the profile along x as CSV at `path` (atomically), with `deposit` beside the peaks, the
+  // mapped bodies and the time in its first line.
+  void write_profile(const std::string& path, const std::vector<double>& deposit,
+                     const std::string& bodies, double time) const;
 
   MapsSettings settings_;
   std::vector<char> mapped_;                // per body

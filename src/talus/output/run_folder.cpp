@@ -66,7 +66,8 @@ bool talus_file_in(std::string_view folder, std::string_view name, const std::st
            case_text.find("\"" + copy + "\"") != std::string::npos;
   }
   if (folder == "checkpoints") return numbered(name, "step_", ".ckpt");
-  if (folder == "maps") return name.ends_with(".tif") || name.ends_with(".geojson");
+  if (folder == "maps")
+    return name.ends_with(".tif") || name.ends_with(".geojson") || name == "profile.csv";
   return name.ends_with(".png") || name.ends_with(".csv") || name.ends_with(".json");
 }
 
