@@ -33,6 +33,7 @@ FIELDS = {
     "peak_pressure": ("Peak dynamic pressure", "inferno"),
     "arrival_time": ("Arrival time after release", "cividis_r"),
     "deposit_thickness": ("Deposit thickness", "viridis"),
+    "thickness_change": ("Change of the ground surface", "RdBu_r"),
     # The classes in the colours of Swiss hazard maps: low yellow, medium blue, high red.
     "intensity": ("Intensity class", ListedColormap(["#f2d40f", "#2f6fd6", "#d7191c"])),
 }
@@ -154,7 +155,9 @@ for stem, (title, cmap) in FIELDS.items():
     if data is None:
         continue
     unit, tags = meta
-    shown = np.where(np.isnan(data) | (data <= 0.0) & (stem != "arrival_time"), np.nan, data)
+    signed = stem == "thickness_change"  # erosion (negative) and deposition (positive)
+    shown = np.where(np.isnan(data) | (data <= 0.0) & (stem != "arrival_time") & ~signed |
+                     signed & (data == 0.0), np.nan, data)
     fig, ax = plt.subplots(figsize=(7.5, 7.0))
     left, right, bottom, top = ext
     ny, nx = data.shape
@@ -171,7 +174,9 @@ for stem, (title, cmap) in FIELDS.items():
         ax.clabel(cs, fontsize=6, fmt="%.0f")
     classes = stem == "intensity"
     im = ax.imshow(shown, extent=ext, cmap=cmap, alpha=0.85, interpolation="nearest",
-                   **(dict(vmin=0.5, vmax=3.5) if classes else {}))
+                   **(dict(vmin=0.5, vmax=3.5) if classes else {}),
+                   **(dict(vmin=-np.nanmax(np.abs(shown)), vmax=np.nanmax(np.abs(shown)))
+                      if signed and np.isfinite(shown).any() else {}))
     if release is not None and np.nanmax(release) > 0.0:
         xs = left + (np.arange(nx) + 0.5) * dx
         ys = top - (np.arange(ny) + 0.5) * dy

@@ -82,6 +82,11 @@ if r["units"][0] != "class" or not np.array_equal(klass.filled(-1), expected):
                     f"{np.unique(expected, return_counts=True)}")
 if not (expected == 3).any() or not (expected == 2).any():
     failures.append("intensity: the volcano run should have both high and medium cells")
+# The ground's change: the deposit less the release.
+change, _ = read("thickness_change")
+if not np.allclose(change.filled(0), fields["deposit_thickness"].filled(0) -
+                   fields["release_thickness"].filled(0), atol=1e-4):
+    failures.append("thickness_change.tif is not deposit_thickness - release_thickness")
 released = fields["release_thickness"].filled(0) > 0
 if released.sum() < 20 or np.any(released & ~reached):
     failures.append(f"release area {released.sum()} cells, {np.sum(released & ~reached)} outside "
@@ -106,7 +111,7 @@ for name, cells in [("impact_area", reached.sum()),
 p = subprocess.run(["/usr/bin/python3", str(source / "tools/plot_maps.py"), str(run)],
                    capture_output=True, text=True, timeout=300)
 pngs = sorted((run / "plots").glob("map_*.png"))
-if p.returncode != 0 or len(pngs) != 7 or min(f.stat().st_size for f in pngs) < 20000:
+if p.returncode != 0 or len(pngs) != 8 or min(f.stat().st_size for f in pngs) < 20000:
     failures.append(f"plot_maps.py: exit {p.returncode}, {[f.name for f in pngs]}: {p.stderr}")
 # 2D: the maps are the profile along the section (maps/profile.csv), drawn as profile.png.
 section = work / "section"

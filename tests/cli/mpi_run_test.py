@@ -172,7 +172,7 @@ for np in (2, 3):
         failures.append(f"maps, {np} processes: exit {rc}: {out[-800:]}")
         continue
     tifs = sorted(p.name for p in (d1 / "maps").iterdir())
-    if len(tifs) != 12:
+    if len(tifs) != 13:
         failures.append(f"maps: the one-process run wrote {tifs}")
     for n in tifs:
         if (d1 / "maps" / n).read_bytes() != (d / "maps" / n).read_bytes():

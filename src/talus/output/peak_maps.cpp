@@ -284,12 +284,12 @@ void PeakMaps<D>::accumulate(const Simulation<D>& sim, double time) {
 }
 
 template <int D>
-std::vector<double> PeakMaps<D>::deposit(const Simulation<D>& sim) {
+std::vector<double> PeakMaps<D>::deposit(const Simulation<D>& sim, int body) {
   const auto& P = sim.particles();
   std::vector<std::int64_t> volume(settings_.grid.cells(), 0);
   std::string fault;
   for (int b = 0; b < sim.num_bodies() && fault.empty(); ++b) {
-    if (!mapped_[b]) continue;
+    if (!mapped_[b] || (body >= 0 && b != body)) continue;
     for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1] && fault.empty(); ++p)
       if (sim.is_own(p))
         if (const std::int64_t c = cell_of(P.x[p]);
@@ -312,8 +312,18 @@ std::vector<double> PeakMaps<D>::deposit(const Simulation<D>& sim) {
 }
 
 template <int D>
+std::vector<std::vector<double>> PeakMaps<D>::body_deposits(const Simulation<D>& sim) {
+  std::vector<std::vector<double>> each;
+  if (settings_.bodies.size() > 1)
+    for (const int b : settings_.bodies)
+      each.push_back(deposit(sim, b));
+  return each;
+}
+
+template <int D>
 void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
-                        const std::vector<double>& h) const {
+                        const std::vector<double>& h,
+                        const std::vector<std::vector<double>>& each) const {
   const MapsSettings& M = settings_;
   std::string bodies;
   for (const int b : M.bodies)
@@ -324,7 +334,7 @@ void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
       {"TALUS_TIME_S", fmt::format("{:.9g}", sim.time())}};
   const std::string dir = folder + "/maps";
   make_folder(dir);
-  if constexpr (D == 2) return write_profile(dir + "/profile.csv", h, bodies, sim.time());
+  if constexpr (D == 2) return write_profile(dir + "/profile.csv", h, each, sim, bodies);
   const std::string moving = fmt::format("of material moving faster than {} m/s", M.moving_speed);
   auto one = [&](const std::string& file, MapLayer layer) {
     write_geotiff(dir + "/" + file, M.grid, {std::move(layer)}, meta);
@@ -345,6 +355,20 @@ void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
       {"deposit_thickness", "m", "the mapped bodies' thickness at the time written", h});
   one("release_thickness.tif",
       {"release_thickness", "m", "the mapped bodies' thickness at release", release_});
+  std::vector<double> change(h.size());
+  for (std::size_t c = 0; c < h.size(); ++c)
+    change[c] = h[c] - release_[c];
+  one("thickness_change.tif",
+      {"thickness_change", "m",
+       "the change of the ground surface: the mapped bodies' thickness now less at release "
+       "(negative where they left, positive where they deposited)",
+       change});
+  for (std::size_t k = 0; k < each.size(); ++k) { // with several mapped bodies, each one's
+    const std::string& name = sim.case_().bodies[M.bodies[k]].name;
+    one("deposit_thickness_" + name + ".tif",
+        {"deposit_thickness_" + name, "m", "body '" + name + "''s thickness at the time written",
+         each[k]});
+  }
   std::vector<double> intensity(thickness_.size());
   for (std::size_t c = 0; c < intensity.size(); ++c)
     intensity[c] = intensity_class(thickness_[c], speed_[c], M);
@@ -379,21 +403,30 @@ void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
 // The 2D maps: one row per cell along x, at the cell's centre; empty where not reached.
 template <int D>
 void PeakMaps<D>::write_profile(const std::string& path, const std::vector<double>& h,
-                                const std::string& bodies, double time) const {
+                                const std::vector<std::vector<double>>& each,
+                                const Simulation<D>& sim, const std::string& bodies) const {
   const MapGrid& G = settings_.grid;
+  std::string per_body;
+  for (std::size_t k = 0; k < each.size(); ++k)
+    per_body += ",deposit_thickness_" + sim.case_().bodies[settings_.bodies[k]].name;
   std::string text = fmt::format(
       "# {} moving faster than {} m/s, to t = {:.6g} s; thickness m (area per unit width / cell "
       "length), "
       "speed m/s, kinetic energy J/m^2, pressure Pa, arrival s; intensity 3 high, 2 medium, 1 "
       "low\nx,peak_thickness,peak_speed,peak_kinetic_energy,peak_pressure,arrival_time,"
-      "intensity,deposit_thickness,release_thickness\n",
-      bodies, settings_.moving_speed, time);
+      "intensity,deposit_thickness,release_thickness,thickness_change{}\n",
+      bodies, settings_.moving_speed, sim.time(), per_body);
   auto value = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{:.9g}", v); };
-  for (int i = 0; i < G.nx; ++i)
-    text += fmt::format(
-        "{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{},{:.9g},{:.9g}\n", G.x0 + (i + 0.5) * G.dx,
-        thickness_[i], speed_[i], energy_[i], pressure_[i], value(arrival_[i]),
-        value(intensity_class(thickness_[i], speed_[i], settings_)), h[i], release_[i]);
+  for (int i = 0; i < G.nx; ++i) {
+    text +=
+        fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{},{:.9g},{:.9g},{:.9g}",
+                    G.x0 + (i + 0.5) * G.dx, thickness_[i], speed_[i], energy_[i], pressure_[i],
+                    value(arrival_[i]), value(intensity_class(thickness_[i], speed_[i], settings_)),
+                    h[i], release_[i], h[i] - release_[i]);
+    for (const std::vector<double>& e : each)
+      text += fmt::format(",{:.9g}", e[i]);
+    text += '\n';
+  }
   write_file_atomic(path, text);
 }
 

@@ -9,11 +9,12 @@
 //   kinetic energy per unit area e = m u^2 / (2 A),  dynamic pressure rho u^2, rho = m / V
 // (A: the cell's area), whose largest values over the run are kept, with the arrival time (the
 // first time h > 0), and the intensity class of each cell from its peak h and u (the Swiss
-// debris-flow classes by default; intensity_class). The deposit thickness is the mapped bodies'
-// whole volume per cell at the time written, the release thickness the same at release; the ground
-// (the DEM, if the maps have one) is written beside them for the pictures (tools/plot_maps.py). The
-// cell sums are fixed-point integers (2^-s units), so they are the same bits in any order: on any
-// number of threads and processes.
+// debris-flow classes by default; intensity_class). The thickness change is the deposit less
+// the release (the ground surface's change where the mapped bodies are the ground that moves). The
+// deposit thickness is the mapped bodies' whole volume per cell at the time written, the release
+// thickness the same at release; the ground (the DEM, if the maps have one) is written beside them
+// for the pictures (tools/plot_maps.py). The cell sums are fixed-point integers (2^-s units), so
+// they are the same bits in any order: on any number of threads and processes.
 #pragma once
 
 #include "talus/case/case.hpp"
@@ -61,9 +62,11 @@ public:
   // One step's cell sums of the moving material (collective on several processes), and the peak
   // fields and arrival times updated with them at `time`.
   void accumulate(const Simulation<D>& sim, double time);
-  // The maps written into `folder`/maps, with `deposit` (deposit(sim)) as the deposit thickness.
+  // The maps written into `folder`/maps, with `deposit` (deposit(sim)) as the deposit thickness
+  // and `each` (body_deposits(sim)) as each mapped body's.
   void write(const Simulation<D>& sim, const std::string& folder,
-             const std::vector<double>& deposit) const;
+             const std::vector<double>& deposit,
+             const std::vector<std::vector<double>>& each = {}) const;
 
   const std::vector<double>& peak_thickness() const { return thickness_; }
   const std::vector<double>& peak_speed() const { return speed_; }
@@ -72,8 +75,12 @@ public:
   const std::vector<double>& arrival() const { return arrival_; }
   // The mapped bodies' thickness at release (the release area: where it is > 0).
   const std::vector<double>& release_thickness() const { return release_; }
-  // The mapped bodies' volume per unit area in each cell now (collective).
-  std::vector<double> deposit(const Simulation<D>& sim);
+  // The mapped bodies' volume per unit area in each cell now (collective); body >= 0: that
+  // mapped body's alone.
+  std::vector<double> deposit(const Simulation<D>& sim, int body = -1);
+  // With two or more mapped bodies, each one's deposit (in [maps] bodies' order); else none
+  // (collective).
+  std::vector<std::vector<double>> body_deposits(const Simulation<D>& sim);
 
   template <class Ar>
   void serialize(Ar& ar) {
@@ -89,7 +96,8 @@ private:
   // 2D: the profile along x as CSV at `path` (atomically), with `deposit` beside the peaks, the
   // mapped bodies and the time in its first line.
   void write_profile(const std::string& path, const std::vector<double>& deposit,
-                     const std::string& bodies, double time) const;
+                     const std::vector<std::vector<double>>& each, const Simulation<D>& sim,
+                     const std::string& bodies) const;
 
   MapsSettings settings_;
   std::vector<char> mapped_;                // per body

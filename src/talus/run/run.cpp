@@ -211,7 +211,8 @@ private:
     });
     if (maps_) { // the peak fields so far and the deposit now
       const std::vector<double> deposit = maps_->deposit(sim_);
-      on_rank_zero([&] { maps_->write(sim_, opt_.out_dir, deposit); });
+      const std::vector<std::vector<double>> each = maps_->body_deposits(sim_);
+      on_rank_zero([&] { maps_->write(sim_, opt_.out_dir, deposit, each); });
     }
     sim_.reset_force_means();
     write_running_summary(&totals);

@@ -125,11 +125,11 @@ std::string file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-const char* const map_files[] = {"peak_thickness.tif",      "peak_speed.tif",
-                                 "peak_kinetic_energy.tif", "peak_pressure.tif",
-                                 "arrival_time.tif",        "deposit_thickness.tif",
-                                 "release_thickness.tif",   "impact_area.geojson",
-                                 "deposit_area.geojson",    "release_area.geojson"};
+const char* const map_files[] = {
+    "peak_thickness.tif",    "peak_speed.tif",       "peak_kinetic_energy.tif",
+    "peak_pressure.tif",     "arrival_time.tif",     "deposit_thickness.tif",
+    "release_thickness.tif", "thickness_change.tif", "intensity.tif",
+    "impact_area.geojson",   "deposit_area.geojson", "release_area.geojson"};
 
 // A run stopped by SIGTERM after a checkpoint and restarted writes the same maps, byte for byte,
 // as one that ran through: the peak fields and arrival times are in the checkpoint.
@@ -184,10 +184,10 @@ TEST(PeakMaps, A2DSectionGivesItsProfile) {
   std::getline(in, line); // the units
   std::getline(in, line);
   EXPECT_EQ(line, "x,peak_thickness,peak_speed,peak_kinetic_energy,peak_pressure,arrival_time,"
-                  "intensity,deposit_thickness,release_thickness");
+                  "intensity,deposit_thickness,release_thickness,thickness_change");
   int rows = 0;
   while (std::getline(in, line)) {
-    double v[9];
+    double v[10];
     std::string cells = line;
     for (char& ch : cells)
       if (ch == ',') ch = ' ';
@@ -210,6 +210,7 @@ TEST(PeakMaps, A2DSectionGivesItsProfile) {
     EXPECT_EQ(v[6], 2.0); // medium: h 0.5 m is below the high class's 1 m
     EXPECT_NEAR(v[7], i >= 3 ? height : 0.0, 1e-3 * height);
     EXPECT_NEAR(v[8], i <= 2 ? height : 0.0, 1e-9);
+    EXPECT_NEAR(v[9], v[7] - v[8], 1e-9);
   }
   EXPECT_EQ(rows, 10);
 }
