@@ -3,6 +3,7 @@
 // depths and sound speeds, in 2D and 3D; a column released without stress settles to the
 // shortening its equation of state gives, at two bulk moduli; a tank sloshes at the period of
 // linear wave theory, at two depths.
+#include "talus/output/frame_totals.hpp"
 #include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
@@ -159,8 +160,8 @@ TEST(Fluid, ColumnShortensAsItsEquationOfStateGives) {
 // The first sloshing mode of a tank L long with water h deep, released from the surface
 // h + a cos(pi x / L) with its hydrostatic pressure: its period within 2 % of linear wave
 // theory's, omega^2 = g k tanh(k h) with k = pi / L, at two depths. The period is twice the
-// mean time between the zero crossings of the surface at the left wall (the particles' top row
-// there, less its mean).
+// mean time between the zero crossings of the surface at the left wall (a [[gauge]] there, less
+// its mean).
 TEST(Fluid, SloshingPeriodIsLinearWaveTheorys) {
   const double L = 1.0, a = 0.01, cell = 0.025, k = std::numbers::pi / L;
   for (const double depth : {0.5, 0.25}) {
@@ -173,21 +174,12 @@ TEST(Fluid, SloshingPeriodIsLinearWaveTheorys) {
     const std::size_t box = text.find("box = ");
     text.replace(box, text.find('\n', box) - box,
                  fmt::format("polygon = [[0.0, 0.0], [{}, 0.0]{}]", L, surface));
+    text += "[[gauge]]\nname = \"wall\"\nbody = \"water\"\nat = 0.0\n";
     const Case cs = test::case_from(text);
     Simulation<2> sim(cs);
+    // The surface at the left wall: a [[gauge]] there (waves.csv's elevation).
+    auto surface_at_wall = [&] { return frame_totals(sim, {}).gauges[0]; };
     const double T = 2.0 * std::numbers::pi / std::sqrt(g * k * std::tanh(k * depth));
-    // The surface at the left wall: the mean height of the top row of particles within a cell
-    // of it (found by position: the particles are reordered as they are sorted by cell).
-    const auto& P = sim.particles();
-    auto surface_at_wall = [&] {
-      double high = 0.0, sum = 0.0;
-      int n = 0;
-      for (std::size_t p = 0; p < P.size(); ++p)
-        if (P.x[p][0] < cell) high = std::max(high, P.x[p][1]);
-      for (std::size_t p = 0; p < P.size(); ++p)
-        if (P.x[p][0] < cell && P.x[p][1] > high - 0.25 * cell) sum += P.x[p][1], ++n;
-      return sum / n;
-    };
     std::vector<double> t, y;
     while (sim.time() < 3.5 * T) {
       sim.step(3.5 * T - sim.time());

@@ -147,6 +147,14 @@ struct ProbeSpec {
   Vec3a near{};
 };
 
+// A surface gauge ([[gauge]]): the top of a body's material over a point of the plan (x in 2D,
+// x and y in 3D), as a wave gauge reads a free surface (waves.csv).
+struct GaugeSpec {
+  std::string name;
+  int body = 0;
+  std::array<double, 2> at{};
+};
+
 // Checkpoints for restart (output/checkpoint.hpp): every `every` simulated seconds and every
 // `wall_minutes` of wall time (the first after at most first_wall_minutes; 0 turns either off),
 // keeping the newest `keep`.
@@ -266,6 +274,7 @@ struct Case {
   Vec3a terrain_origin{}; // [terrain] origin: subtracted from what the terrain files hold
   ResultsSpec results;
   std::vector<ProbeSpec> probes;
+  std::vector<GaugeSpec> gauges;
   OutputSettings output;
   CheckpointSettings checkpoint;
   MapsSettings maps;

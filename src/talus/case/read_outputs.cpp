@@ -36,6 +36,29 @@ void read_probes(TableReader& root, Case& c) {
   });
 }
 
+// [[gauge]]: surface gauges (waves.csv).
+void read_gauges(TableReader& root, Case& c) {
+  const int dim = c.simulation.dimension;
+  const std::vector<std::string> body_names = names_of(c.bodies);
+  for_each_entry(root, "gauge", [&](TableReader& r, std::size_t i) {
+    GaugeSpec g;
+    g.name = r.name("name", fmt::format("gauge{}", i));
+    for (const GaugeSpec& q : c.gauges)
+      if (q.name == g.name) r.fail("name", "two gauges have this name");
+    g.body = lookup(r, "body", body_names, "body");
+    if (dim == 2) {
+      g.at[0] = r.number("at");
+    } else {
+      const Vec3a a = r.vector("at", 2);
+      g.at = {a[0], a[1]};
+    }
+    for (int d = 0; d < dim - 1; ++d)
+      if (g.at[d] < c.grid.origin[d] || g.at[d] > c.grid.origin[d] + c.grid.extent[d])
+        r.fail("at", fmt::format("the point is outside the grid along {}", "xy"[d]));
+    c.gauges.push_back(g);
+  });
+}
+
 // [output]: the frames and their fields.
 void read_output(TableReader& root, Case& c) {
   if (const toml::table* out = root.table("output")) {

@@ -9,6 +9,7 @@ namespace talus::case_reading {
 
 void read_results(TableReader& root, Case& c);
 void read_probes(TableReader& root, Case& c);
+void read_gauges(TableReader& root, Case& c);
 void read_output(TableReader& root, Case& c);
 void read_checkpoint(TableReader& root, Case& c);
 void read_maps(TableReader& root, Case& c);

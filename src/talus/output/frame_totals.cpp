@@ -38,7 +38,8 @@ FrameTotals<D> frame_totals(const Simulation<D>& sim, const std::vector<std::uin
   // interface its area and area-weighted pressure and temperature), every largest value in another.
   const std::size_t all = static_cast<std::size_t>(B) * BodySums<D>::size;
   std::vector<ExactSum> sums(all + 1 + D + 3 * F);
-  std::vector<double> largest(B + 2 * F, -std::numeric_limits<double>::infinity());
+  const std::vector<GaugeSpec>& gauges = sim.case_().gauges;
+  std::vector<double> largest(B + 2 * F + gauges.size(), -std::numeric_limits<double>::infinity());
   auto body = [&](int b) { return BodySums<D>{&sums[b * BodySums<D>::size]}; };
   ExactSum* total = &sums[all];
   ExactSum* water = &sums[all + 1 + D];
@@ -77,6 +78,20 @@ FrameTotals<D> frame_totals(const Simulation<D>& sim, const std::vector<std::uin
       const double T = band_temperature(sim, p);
       water[3 * f + 2] += T * A;
       largest[B + 2 * f + 1] = std::max(largest[B + 2 * f + 1], T);
+    }
+  }
+  // The gauges: the highest top (centre + half a spacing) of the body's particles within half a
+  // cell of the gauge's point in plan.
+  const double half = 0.5 * sim.grid().h;
+  for (std::size_t k = 0; k < gauges.size(); ++k) {
+    const GaugeSpec& g = gauges[k];
+    const double top = 0.5 * sim.grid().h / sim.case_().bodies[g.body].particles_per_cell;
+    double& high = largest[B + 2 * F + k];
+    for (std::size_t p = P.body_begin[g.body]; p < P.body_begin[g.body + 1]; ++p) {
+      bool over = sim.is_own(p);
+      for (int d = 0; d < D - 1 && over; ++d)
+        over = std::abs(P.x[p][d] - g.at[d]) <= half;
+      if (over) high = std::max(high, P.x[p][D - 1] + top);
     }
   }
   // The probes' particles, from the process that owns each (one contributor per entry).
@@ -126,6 +141,10 @@ FrameTotals<D> frame_totals(const Simulation<D>& sim, const std::vector<std::uin
       w.temperature_max = band ? largest[B + 2 * f + 1] : std::numeric_limits<double>::quiet_NaN();
     }
     t.water.push_back(w);
+  }
+  for (std::size_t k = 0; k < gauges.size(); ++k) { // dry: no data
+    const double high = largest[B + 2 * F + k];
+    t.gauges.push_back(std::isfinite(high) ? high : std::numeric_limits<double>::quiet_NaN());
   }
   for (std::size_t k = 0; k < probe_ids.size(); ++k) {
     ProbeState<D> s;

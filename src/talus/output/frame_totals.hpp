@@ -41,6 +41,7 @@ struct FrameTotals {
   Vec<D> momentum = Vec<D>::Zero();  // of every particle
   std::vector<InterfaceWater> water; // per interface (zeros without pore pressure)
   std::vector<ProbeState<D>> probes; // per probe id given
+  std::vector<double> gauges;        // per [[gauge]]: the surface's elevation (NaN: dry)
 };
 
 // Collective on several processes (Simulation::exchange): every process calls it.

@@ -125,6 +125,7 @@ RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim,
   if (sim.setup().heating) interfaces_ += ",temperature_mean,temperature_max";
   interfaces_ += "\n";
   probes_ = "time,probe" + components<D>("") + components<D>("velocity_") + ",speed,displacement\n";
+  waves_ = "time,gauge,elevation\n";
 }
 
 template <int D>
@@ -166,6 +167,10 @@ void RunWriter<D>::write_rows(const Simulation<D>& sim, const FrameTotals<D>& to
                : std::string(",,");
     interfaces_ += "\n";
   }
+  for (std::size_t k = 0; k < c.gauges.size(); ++k) // the surface's elevation; empty: dry
+    waves_ += fmt::format("{:.10g},{},{}\n", t, csv_text(c.gauges[k].name),
+                          std::isnan(totals.gauges[k]) ? std::string()
+                                                       : fmt::format("{:.10g}", totals.gauges[k]));
   for (std::size_t k = 0; k < probe_ids_.size(); ++k) {
     const ProbeState<D>& pr = totals.probes[k];
     probes_ += fmt::format("{:.10g},{}{}{},{:.10g},{:.10g}\n", t, csv_text(c.probes[k].name),
@@ -234,6 +239,7 @@ void RunWriter<D>::write_tables(const Simulation<D>& sim) const {
   write_file_atomic(dir_ + "/energy.csv", energy_);
   write_file_atomic(dir_ + "/bodies.csv", bodies_);
   if (!probe_ids_.empty()) write_file_atomic(dir_ + "/probes.csv", probes_);
+  if (!c.gauges.empty()) write_file_atomic(dir_ + "/waves.csv", waves_);
   if (B > 1) write_file_atomic(dir_ + "/contacts.csv", contacts_);
   if (!c.interfaces.empty()) write_file_atomic(dir_ + "/interfaces.csv", interfaces_);
 }

@@ -54,6 +54,7 @@ public:
   template <class Ar>
   void serialize(Ar& ar) {
     ar.io(probe_ids_), ar.io(energy_), ar.io(bodies_), ar.io(probes_), ar.io(contacts_);
+    ar.io(waves_);
     ar.io(interfaces_), ar.io(frames_), ar.io(contact_frames_);
   }
 
@@ -64,7 +65,7 @@ private:
 
   std::string dir_;
   std::vector<std::uint32_t> probe_ids_;
-  std::string energy_, bodies_, probes_, contacts_, interfaces_;
+  std::string energy_, bodies_, probes_, contacts_, interfaces_, waves_;
   std::vector<std::pair<double, std::string>> frames_;
   std::vector<std::pair<double, std::string>> contact_frames_; // contact_nodes_NNNNNN.vtu
 };

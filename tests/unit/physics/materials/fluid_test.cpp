@@ -76,6 +76,14 @@ density = 1000.0
             std::string::npos);
   EXPECT_NE(error("sound_speed = 20.0\ntension = 1e9\n").find("material[0].tension"),
             std::string::npos);
+  // A surface gauge ([[gauge]]): its point in plan inside the grid, its body named.
+  const std::string gauge = "sound_speed = 20.0\n[[gauge]]\nbody = \"water\"\n";
+  EXPECT_EQ(test::case_from(head + gauge + "at = 0.5\n").gauges.at(0).at[0], 0.5);
+  EXPECT_NE(error(gauge + "at = 2.0\n").find("gauge[0].at: the point is outside the grid"),
+            std::string::npos)
+      << error(gauge + "at = 2.0\n");
+  EXPECT_NE(error("sound_speed = 20.0\n[[gauge]]\nbody = \"x\"\nat = 0.5\n").find("gauge[0].body"),
+            std::string::npos);
 }
 
 // A body that fills around the others (fill_around: a reservoir around a slope) takes its
