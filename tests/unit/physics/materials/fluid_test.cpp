@@ -34,14 +34,18 @@ TEST(Fluid, EquationOfStateEnergyAndViscousStress) {
   EXPECT_DOUBLE_EQ(s[3], 2.0 * 2.0e-3 * 0.5);
 }
 
-TEST(Fluid, CaseKeysAreReadAndBadOnesNamed) {
-  const std::string head = R"(
+// A 2D case's first tables: 1 m x 1 m on 0.1 m cells.
+const std::string square = R"(
 [simulation]
 dimension = 2
 end_time = 1.0
 [grid]
 extent = [1.0, 1.0]
 cell_size = 0.1
+)";
+
+TEST(Fluid, CaseKeysAreReadAndBadOnesNamed) {
+  const std::string head = square + R"(
 [[body]]
 name = "water"
 material = "water"
@@ -89,13 +93,7 @@ density = 1000.0
 // A body that fills around the others (fill_around: a reservoir around a slope) takes its
 // geometry's lattice less every other body's: the two together fill the box, without overlap.
 TEST(Fluid, AReservoirFillsAroundTheOtherBodies) {
-  const std::string text = R"(
-[simulation]
-dimension = 2
-end_time = 1.0
-[grid]
-extent = [1.0, 1.0]
-cell_size = 0.1
+  const std::string text = square + R"(
 [[material]]
 name = "water"
 model = "fluid"
