@@ -156,8 +156,10 @@ for stem, (title, cmap) in FIELDS.items():
         continue
     unit, tags = meta
     signed = stem == "thickness_change"  # erosion (negative) and deposition (positive)
-    shown = np.where(np.isnan(data) | (data <= 0.0) & (stem != "arrival_time") & ~signed |
-                     signed & (data == 0.0), np.nan, data)
+    if signed:
+        shown = np.where(np.isnan(data) | (data == 0.0), np.nan, data)
+    else:
+        shown = np.where(np.isnan(data) | (data <= 0.0) & (stem != "arrival_time"), np.nan, data)
     fig, ax = plt.subplots(figsize=(7.5, 7.0))
     left, right, bottom, top = ext
     ny, nx = data.shape

@@ -246,7 +246,7 @@ struct MapsSettings {
   std::vector<int> bodies;   // the bodies mapped
   double moving_speed = 0.1; // m/s: a particle faster than this is moving material
   // Intensity classes (maps/intensity.tif): high where the peak thickness and the peak speed both
-  // exceed the high thresholds, medium where both exceed the medium ones, low elsewhere reached.
+  // exceed the high thresholds, medium where both reach the medium ones, low elsewhere reached.
   // The defaults are the Swiss debris-flow classes (BWW/BRP/BUWAL 1997): high where h > 1 m and
   // v > 1 m/s, medium elsewhere (no low class).
   double high_thickness = 1.0, high_speed = 1.0;     // m, m/s

@@ -122,6 +122,13 @@ void read_maps(TableReader& root, Case& c) {
     const int b = static_cast<int>(it - body_names.begin());
     if (std::find(m.bodies.begin(), m.bodies.end(), b) != m.bodies.end())
       r.fail("bodies", fmt::format("'{}' is named twice", name));
+    // A mapped body's name goes into file names (deposit_thickness_NAME.tif) and CSV columns.
+    if (name.find_first_not_of(
+            "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") !=
+        std::string::npos)
+      r.fail("bodies", fmt::format("'{}': a mapped body's name is letters, digits, _ and - only "
+                                   "(it names its map files)",
+                                   name));
     m.bodies.push_back(b);
   }
   if (m.bodies.empty()) r.fail("bodies", "name at least one body, e.g. bodies = [\"slide\"]");

@@ -171,7 +171,7 @@ void write_outline(const std::string& path, const MapGrid& grid, const std::vect
 double intensity_class(double h, double v, const MapsSettings& m) {
   if (!(h > 0.0)) return std::numeric_limits<double>::quiet_NaN();
   if (h > m.high_thickness && v > m.high_speed) return 3.0;
-  if (h > m.medium_thickness && v > m.medium_speed) return 2.0;
+  if (h >= m.medium_thickness && v >= m.medium_speed) return 2.0;
   return 1.0;
 }
 
@@ -203,7 +203,9 @@ double PeakMaps<D>::cell_area() const {
 template <int D>
 std::int64_t PeakMaps<D>::cell_of(const Vec<D>& x) const {
   const MapGrid& G = settings_.grid;
-  const double fi = std::floor((x[0] - G.x0) / G.dx), fj = std::floor((x[1] - G.y0) / G.dy);
+  // 2D: one row along x, whatever the height (material may flow above the grid's rounded top).
+  const double fi = std::floor((x[0] - G.x0) / G.dx),
+               fj = D == 2 ? 0.0 : std::floor((x[1] - G.y0) / G.dy);
   if (!(fi >= 0.0 && fi < G.nx && fj >= 0.0 && fj < G.ny)) return -1;
   return static_cast<std::int64_t>(fj) * G.nx + static_cast<std::int64_t>(fi);
 }
@@ -375,7 +377,7 @@ void PeakMaps<D>::write(const Simulation<D>& sim, const std::string& folder,
   one("intensity.tif",
       {"intensity", "class",
        fmt::format("intensity class: 3 high (peak thickness > {} m and peak speed > {} m/s), "
-                   "2 medium (> {} m and > {} m/s), 1 low (reached otherwise); no data: never "
+                   "2 medium (>= {} m and >= {} m/s), 1 low (reached otherwise); no data: never "
                    "reached",
                    M.high_thickness, M.high_speed, M.medium_thickness, M.medium_speed),
        intensity});

@@ -108,13 +108,13 @@ template <int D>
 std::unique_ptr<Stepper<D>> make_stepper(const Case& c, bool restoring) {
 #ifdef TALUS_MPI
   if (process_count() > 1) {
-    // A fluid's pressure is its grid cell's mean volume ratio, summed over the cell's particles
-    // on one process: the processes do not share those sums yet.
+    // Fluid bodies are not yet in the MPI matrix (one process's bits on several are unchecked
+    // for them): refused until they are.
     for (const BodySpec& b : c.bodies)
       if (std::holds_alternative<Fluid>(c.materials[b.material].model))
         throw DecompositionError(fmt::format(
-            "body '{}' is a fluid: a case with a fluid body runs on one process (its cells' "
-            "pressure is not shared between processes); run it without mpirun",
+            "body '{}' is a fluid: a case with a fluid body runs on one process (fluids are not "
+            "yet checked to give one process's bits on several); run it without mpirun",
             b.name));
     return std::make_unique<SharedStepper<D>>(c, restoring);
   }

@@ -34,7 +34,12 @@ double Simulation<D>::compute_time_step() const {
   }
   if (exchange_) max_speed = exchange_->max(max_speed); // every process's particles
   const double cfl = settling_ && ts.settle_cfl ? *ts.settle_cfl : ts.cfl;
-  return std::min(cfl * grid_.h / max_speed, ts.dt_max);
+  // A viscous fluid's explicit diffusion limit, dt <= rho h^2 / (2 D mu), times the CFL number.
+  double limit = ts.dt_max;
+  for (const BodySetup<D>& body : setup_.bodies)
+    if (const Fluid* f = std::get_if<Fluid>(&body.material.model); f && f->viscosity > 0.0)
+      limit = std::min(limit, cfl * f->density * grid_.h * grid_.h / (2.0 * D * f->viscosity));
+  return std::min(cfl * grid_.h / max_speed, limit);
 }
 
 // The CFL step fell below its floor: name the particle that sets it (fastest wave plus speed).

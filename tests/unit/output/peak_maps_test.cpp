@@ -272,7 +272,7 @@ TEST(PeakMaps, IntensityClassesFollowTheirThresholds) {
         continue;
       }
       EXPECT_EQ(a, h > 1.0 && v > 1.0 ? 3.0 : 2.0) << h << ", " << v;
-      EXPECT_EQ(b, h > 2.0 && v > 3.0 ? 3.0 : h > 0.5 && v > 1.0 ? 2.0 : 1.0) << h << ", " << v;
+      EXPECT_EQ(b, h > 2.0 && v > 3.0 ? 3.0 : h >= 0.5 && v >= 1.0 ? 2.0 : 1.0) << h << ", " << v;
     }
 }
 
@@ -314,6 +314,17 @@ TEST(PeakMaps, BadTablesAreNamed) {
             std::string::npos);
   EXPECT_NE(error("[maps]\nbodies = [\"block\"]\n", 2).find("maps.cell_size: required"),
             std::string::npos);
+  // A mapped body's name names files: letters, digits, _ and - only.
+  std::string odd = gliding_block();
+  odd.replace(odd.find("name = \"block\""), 14, "name = \"a/b\"");
+  odd.replace(odd.find("bodies = [\"block\"]"), 18, "bodies = [\"a/b\"]");
+  try {
+    test::case_from(odd);
+    ADD_FAILURE() << "a mapped body named a/b was accepted";
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("letters, digits, _ and - only"), std::string::npos)
+        << e.what();
+  }
 }
 
 } // namespace

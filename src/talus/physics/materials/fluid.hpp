@@ -1,6 +1,9 @@
 // A weakly compressible Newtonian fluid (water as a body): the pressure is a state function of
-// the particle's volume ratio J = V / V_0 = det F, the deviatoric stress is viscous,
-//   sigma = -p I + 2 mu dev(D),   p = K (1 / J - 1) = K (rho / rho_0 - 1),  p >= -tension.
+// the particle's volume ratio J = V / V_0 = det F (V_0: its volume at zero pressure), the
+// deviatoric stress is viscous,
+//   sigma = -p I + 2 mu dev(D),   p = K (1 / J - 1),  p >= -tension.
+// (A hydrostatic start seeds the compressed volume with mass rho_0 V, so the density there is
+// rho_0, not rho_0 / J: a difference of p / K, about 1 %.)
 // The law is linear in density (Tait's equation with exponent 1): with an artificial sound
 // speed c = sqrt(K / rho_0) ten times the flow's speed the density varies by about 1 %, where
 // Tait's exponent 7 would change the pressure by a few percent and is not the physics being

@@ -3,6 +3,7 @@
 #include "talus/physics/materials/fluid.hpp"
 #include "talus/setup/interface.hpp"
 #include "talus/setup/seeds.hpp"
+#include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -88,6 +89,28 @@ density = 1000.0
       << error(gauge + "at = 2.0\n");
   EXPECT_NE(error("sound_speed = 20.0\n[[gauge]]\nbody = \"x\"\nat = 0.5\n").find("gauge[0].body"),
             std::string::npos);
+}
+
+// A viscous fluid's step is held below the explicit diffusion limit, CFL rho h^2 / (2 D mu);
+// water's wave step is far shorter than its.
+TEST(Fluid, AViscousFluidsStepIsItsDiffusionLimit) {
+  const std::string body = R"(
+[[body]]
+name = "water"
+material = "water"
+box = { min = [0.0, 0.0], max = [1.0, 0.5] }
+[[material]]
+name = "water"
+model = "fluid"
+density = 1000.0
+sound_speed = 20.0
+)";
+  const Case thick = test::case_from(square + body + "viscosity = 1.0e4\n");
+  const Simulation<2> a(thick);
+  EXPECT_DOUBLE_EQ(a.compute_time_step(), thick.simulation.cfl * 1000.0 * 0.01 / (4.0 * 1.0e4));
+  const Case water = test::case_from(square + body);
+  const Simulation<2> b(water);
+  EXPECT_NEAR(b.compute_time_step(), water.simulation.cfl * 0.1 / 20.0, 1e-3 * 0.1 / 20.0);
 }
 
 // A body that fills around the others (fill_around: a reservoir around a slope) takes its
