@@ -2,7 +2,8 @@
 // started hydrostatic keeps its pressure p = rho g (H - y) and stays still for 10 s, at two
 // depths and sound speeds, in 2D and 3D; a column released without stress settles to the
 // shortening its equation of state gives, at two bulk moduli; a tank sloshes at the period of
-// linear wave theory, at two depths.
+// linear wave theory, at two depths; a column collapses along a floor (the dam break) as Martin &
+// Moyce measured, at two resolutions.
 #include "talus/output/frame_totals.hpp"
 #include "talus/solver/simulation.hpp"
 #include "test_support.hpp"
@@ -197,6 +198,91 @@ TEST(Fluid, SloshingPeriodIsLinearWaveTheorys) {
     std::printf("sloshing, depth %g m: period %.4f s against %.4f (%+.2f %%), %zu crossings\n",
                 depth, measured, T, 100.0 * (measured / T - 1.0), crossings.size());
     EXPECT_NEAR(measured, T, 0.02 * T) << "depth " << depth;
+  }
+}
+
+// The dam break: a column a wide and 2a high (Martin & Moyce 1952, Phil. Trans. R. Soc. A 244,
+// 312-324, their 2D column with n^2 = 2 and a = 2.25 in) released on a frictionless floor. Its
+// front Z = x / a against T = t sqrt(2 g / a), at a / 20 and a / 40 with c = 25 m/s (Mach < 0.1):
+// - never faster than Ritter's front of an ideal dam break, dx/dt = 2 sqrt(g H0), dZ/dT = 2;
+// - converged: the two resolutions within 3 % of each other;
+// - against the experiment (their tabulated front): measured, not tuned. The model leads it, by
+//   7-18 % (docs/verification.md, "Dam break"): the experiment's floor and its gate's removal
+//   slow its front, and FLIP's dissipation alone moves ours by several per cent (FLIP 0.9 lands
+//   within 7 %). The bounds below hold the known miss (ahead by no more than 20 %, behind by no
+//   more than 5 %) so that a change for the worse fails; the issue's 5 % is not met.
+TEST(Fluid, DamBreakFrontAgainstMartinAndMoyce) {
+  const double a = 0.05715, s = std::sqrt(2.0 * g / a);
+  const std::vector<double> T = {0.41, 0.84, 1.19, 1.43, 1.63, 1.83, 1.98, 2.20,
+                                 2.32, 2.51, 2.65, 2.83, 2.98, 3.11, 3.33};
+  const std::vector<double> Z = {1.11, 1.22, 1.44, 1.67, 1.89, 2.11, 2.33, 2.56,
+                                 2.78, 3.00, 3.22, 3.44, 3.67, 3.89, 4.11};
+  std::vector<std::vector<double>> fronts;
+  for (const int cells : {20, 40}) {
+    const double h = a / cells;
+    const Case cs = test::case_from(fmt::format(R"(
+[simulation]
+dimension = 2
+end_time = 0.2
+cfl = 0.4
+gravity = [0.0, -9.81]
+scheme = "musl"
+flip = 0.99
+[grid]
+extent = [{0}, {1}]
+cell_size = {2}
+shape_function = "gimp"
+[grid.boundary]
+x_min = "slip"
+x_max = "slip"
+y_min = "slip"
+[initial_state]
+method = "k0"
+[[material]]
+name = "water"
+model = "fluid"
+density = 1000.0
+sound_speed = 25.0
+viscosity = 1.0e-3
+[[body]]
+name = "water"
+material = "water"
+box = {{ min = [0.0, 0.0], max = [{3}, {4}] }}
+)",
+                                                6 * a, 2.5 * a, h, a, 2 * a));
+    Simulation<2> sim(cs);
+    // The front: the leading particle's far edge (2 particles a cell: h / 4 beyond its centre).
+    auto front = [&] {
+      double x = 0.0;
+      for (const auto& xp : sim.particles().x)
+        x = std::max(x, xp[0]);
+      return (x + h / 4) / a;
+    };
+    std::vector<double> at;
+    double fastest = 0.0, last_t = 0.0, last_z = front();
+    for (const double Ti : T) {
+      const double t = Ti / s;
+      while (sim.time() < t - 1e-12) {
+        sim.step(std::min(t, last_t + 0.002) - sim.time());
+        if (sim.time() >= last_t + 0.002 - 1e-12 || sim.time() >= t - 1e-12) {
+          const double z = front();
+          fastest = std::max(fastest, (z - last_z) / ((sim.time() - last_t) * s));
+          last_t = sim.time(), last_z = z;
+        }
+      }
+      at.push_back(front());
+    }
+    std::printf("dam break, a / %d: fastest front dZ/dT %.3f (Ritter's 2)\n", cells, fastest);
+    EXPECT_LT(fastest, 2.0) << "a / " << cells;
+    fronts.push_back(at);
+  }
+  for (std::size_t i = 0; i < T.size(); ++i) {
+    const double z20 = fronts[0][i], z40 = fronts[1][i];
+    std::printf("T %.2f: Z %.3f (a/20), %.3f (a/40) against %.2f measured (%+.1f %%)\n", T[i], z20,
+                z40, Z[i], 100.0 * (z40 / Z[i] - 1.0));
+    EXPECT_NEAR(z20, z40, 0.03 * z40) << "T " << T[i];
+    EXPECT_LT(z40, 1.20 * Z[i]) << "T " << T[i];
+    EXPECT_GT(z40, 0.95 * Z[i]) << "T " << T[i];
   }
 }
 

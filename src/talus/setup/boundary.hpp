@@ -7,6 +7,7 @@
 #include "talus/core/nodes.hpp"
 
 #include <algorithm>
+#include <array>
 #include <vector>
 
 namespace talus {
@@ -40,6 +41,9 @@ template <int D>
 struct GridConditions {
   std::vector<NodeCondition<D>> prescribed;
   std::vector<FrictionWall<D>> walls;
+  // Which domain faces are walls (fixed, slip or friction; index 2 d + side): impenetrable to
+  // particles as well as to the nodes' velocity.
+  std::array<bool, 2 * D> closed{};
 };
 
 template <int D>

@@ -6,6 +6,7 @@
 #include "talus/solver/simulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <fmt/format.h>
@@ -38,6 +39,21 @@ move_particle(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const Bo
   P.x[p] += 0.5 * dt * (v_old + v_new);
 }
 
+// Whether particle p, found outside the grid [lo, hi] or not finite, is fine once put back on
+// the walls it crossed. A wall is impenetrable: a particle carried past one (a FLIP velocity's
+// normal part, which the wall's nodes do not see) goes back onto it and loses its outward
+// velocity; past a free face it has left the grid.
+template <int D>
+bool put_back_on_walls(Particles<D>& P, std::size_t p, const Vec<D>& lo, const Vec<D>& hi,
+                       const std::array<bool, 2 * D>& closed) {
+  for (int d = 0; d < D; ++d) {
+    if (P.x[p][d] < lo[d] && closed[2 * d]) P.x[p][d] = lo[d], P.v[p][d] = std::max(P.v[p][d], 0.0);
+    if (P.x[p][d] > hi[d] && closed[2 * d + 1])
+      P.x[p][d] = hi[d], P.v[p][d] = std::min(P.v[p][d], 0.0);
+  }
+  return detail::motion_ok(P, static_cast<std::int64_t>(p), lo, hi);
+}
+
 } // namespace
 
 // G2P, eq. 22-23. Reads v^n and v^{n+1} of each particle's field and the shape-weight cache;
@@ -50,6 +66,7 @@ void Simulation<D>::update_particles(double dt) {
   const double flip = setup_.flip;
   std::atomic<std::size_t> gone{StepCheck::no_particle};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
+  const std::array<bool, 2 * D>& closed = setup_.conditions.closed;
   for (int b = 0; b < num_bodies(); ++b) {
     if (field_held_[b]) continue;
     shape_.require(steps_, particles_.size());
@@ -58,7 +75,7 @@ void Simulation<D>::update_particles(double dt) {
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
       move_particle(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
-      if (!detail::motion_ok(P, p, lo, hi))
+      if (!detail::motion_ok(P, p, lo, hi) && !put_back_on_walls(P, p, lo, hi, closed))
         detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
     }
   }
@@ -78,11 +95,13 @@ void Simulation<D>::update_particles_and_remap(double dt) {
     std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
   std::atomic<std::size_t> gone{StepCheck::no_particle};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
+  const std::array<bool, 2 * D>& closed = setup_.conditions.closed;
   scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[P.field[p]];
     const ShapeWeights<D>& sw = shape_.weights[p];
     move_particle(P, p, setup_.bodies[b], N, sw, flip, dt);
-    if (!detail::motion_ok(P, p, lo, hi)) detail::record_bad(gone, p, exchange_);
+    if (!detail::motion_ok(P, p, lo, hi) && !put_back_on_walls(P, p, lo, hi, closed))
+      detail::record_bad(gone, p, exchange_);
     const Vec<D> mv_p = P.m[p] * P.v[p];
     for_each_node(N.box, sw,
                   [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
