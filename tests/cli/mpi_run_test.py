@@ -8,7 +8,8 @@ in summary.json. Then: a run stopped on 2 processes
 reading its slab of the older checkpoint); a process killed with SIGKILL stops the others
 and leaves its newest checkpoint readable, and a one-process restart from it ends identical; the
 3D volcano slide's hazard maps (GeoTIFFs) on 2 and 3 processes are the one-process run's, and a
-mapped particle too fast for the maps stops every process; a case with a fluid body is refused;
+mapped particle too fast for the maps stops every process; a slide into water (a fluid body)
+on 3 processes is the one-process run;
 a grid too narrow for the processes is refused with a message naming its columns; a bad case's
 error is printed once, not once per process.
 
@@ -196,12 +197,22 @@ rc, out = run([*mpi(4, 1), "run", str(source / "cases/benchmarks/cohesive_block.
 if rc != 2 or "cell columns" not in out:
     failures.append(f"narrow grid: exit {rc}, expected 2 with the columns named: {out[-800:]}")
 
-# A fluid body runs on one process: refused under mpirun, naming the body.
-d = fresh("fluid")
-rc, out = run([*mpi(2, 1), "run", str(source / "cases/examples/sloshing_tank.toml"), "--out",
-               str(d)], 1)
-if rc != 2 or "body 'water' is a fluid" not in out:
-    failures.append(f"fluid on 2 processes: exit {rc}, expected 2 and the body named: {out[-800:]}")
+# Water as a body (a fluid, a slide into it, contact, surface gauges): on 3 processes the
+# one-process run folder, waves.csv included.
+fluid = ["--set", "grid.cell_size=0.05", "--set", "simulation.end_time=0.8", "--set",
+         "output.every=0.2"]
+fluid_case = str(source / "cases/examples/slide_into_tank.toml")
+d1 = fresh("fluid_one")
+rc, out = run([serial, "run", fluid_case, "--out", str(d1), *fluid], 2)
+if rc != 0:
+    failures.append(f"fluid on one process: exit {rc}: {out[-1500:]}")
+else:
+    d = fresh("fluid_three")
+    rc, out = run([*mpi(3, 1), "run", fluid_case, "--out", str(d), *fluid], 1)
+    if rc != 0:
+        failures.append(f"fluid on 3 processes: exit {rc}: {out[-1500:]}")
+    else:
+        compare(d1, d, "fluid on 3 processes")
 
 # A bad case: every process reads it and fails alike; the error is printed once.
 d = fresh("bad_case")

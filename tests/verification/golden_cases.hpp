@@ -199,6 +199,17 @@ inline const std::vector<GoldenCase>& golden_cases() {
        0,
        200,
        0x755ab7cae4f45c8aull},
+      // Water as a body: a fluid (hydrostatic start, filled around a rigid slope) that an
+      // elastic block, started at the waterline at 2 m/s, runs into; surface gauges.
+      {"slide_into_tank",
+       "cases/examples/slide_into_tank.toml",
+       {"grid.cell_size=0.05",
+        "body.slide.polygon=[[0.55, 0.35], [0.691421, 0.208579], [0.762132, 0.279289], "
+        "[0.620711, 0.420711]]",
+        "body.slide.velocity=[1.414214, -1.414214]"},
+       0,
+       200,
+       0xc55328afe233362full},
       // The 3D sphere on a rigid plane.
       {"sphere_3d", "cases/benchmarks/rolling_sphere.toml", {}, 0, 200, 0xbaec6138267914f4ull},
   };

@@ -2,9 +2,7 @@
 
 #include "talus/parallel/processes.hpp"
 
-#include <fmt/format.h>
 #include <stdexcept>
-#include <variant>
 #ifdef TALUS_MPI
 #include "talus/parallel/decomposition.hpp"
 #include "talus/parallel/distributed.hpp"
@@ -107,17 +105,7 @@ private:
 template <int D>
 std::unique_ptr<Stepper<D>> make_stepper(const Case& c, bool restoring) {
 #ifdef TALUS_MPI
-  if (process_count() > 1) {
-    // Fluid bodies are not yet in the MPI matrix (one process's bits on several are unchecked
-    // for them): refused until they are.
-    for (const BodySpec& b : c.bodies)
-      if (std::holds_alternative<Fluid>(c.materials[b.material].model))
-        throw DecompositionError(fmt::format(
-            "body '{}' is a fluid: a case with a fluid body runs on one process (fluids are not "
-            "yet checked to give one process's bits on several); run it without mpirun",
-            b.name));
-    return std::make_unique<SharedStepper<D>>(c, restoring);
-  }
+  if (process_count() > 1) return std::make_unique<SharedStepper<D>>(c, restoring);
 #endif
   (void)restoring;
   return std::make_unique<LocalStepper<D>>(c);
