@@ -9,6 +9,7 @@
 #include <cpl_string.h>
 #include <cpl_vsi.h>
 #include <fmt/format.h>
+#include <functional>
 #include <gdal_alg.h>
 #include <gdal_priv.h>
 #include <limits>
@@ -173,6 +174,65 @@ double intensity_class(double h, double v, const MapsSettings& m) {
   if (h > m.high_thickness && v > m.high_speed) return 3.0;
   if (h >= m.medium_thickness && v >= m.medium_speed) return 2.0;
   return 1.0;
+}
+
+nlohmann::json map_figures(int dimension, const MapGrid& grid, double area,
+                           const std::vector<double>& peak_thickness,
+                           const std::vector<double>& peak_speed,
+                           const std::vector<double>& deposit, const std::vector<double>& release,
+                           const std::function<double(double, double)>& ground, double origin_z) {
+  std::size_t impact = 0, deposited = 0;
+  double release_volume = 0.0, deposit_volume = 0.0, fastest = 0.0;
+  for (std::size_t c = 0; c < grid.cells(); ++c) {
+    impact += peak_thickness[c] > 0.0;
+    deposited += deposit[c] > 0.0;
+    release_volume += release[c] * area, deposit_volume += deposit[c] * area;
+    fastest = std::max(fastest, peak_speed[c]);
+  }
+  nlohmann::json j = nlohmann::json::object();
+  const bool plane = dimension == 2; // lengths and areas per unit width
+  j[plane ? "impact_length_m" : "impact_area_m2"] = static_cast<double>(impact) * area;
+  j[plane ? "deposit_length_m" : "deposit_area_m2"] = static_cast<double>(deposited) * area;
+  j[plane ? "release_area_m2" : "release_volume_m3"] = release_volume;
+  j[plane ? "deposit_area_m2" : "deposit_volume_m3"] = deposit_volume;
+  j["peak_speed_m_s"] = fastest;
+  if (!ground || impact == 0) return j;
+  // The crown (the highest release cell) and the tip (the impact cell farthest from it in plan).
+  auto centre = [&](std::size_t c) {
+    return std::array<double, 2>{grid.x0 + (static_cast<double>(c % grid.nx) + 0.5) * grid.dx,
+                                 grid.y0 + (static_cast<double>(c / grid.nx) + 0.5) * grid.dy};
+  };
+  std::size_t crown = grid.cells(), tip = grid.cells();
+  double crown_z = -std::numeric_limits<double>::infinity(), farthest = -1.0;
+  for (std::size_t c = 0; c < grid.cells(); ++c)
+    if (release[c] > 0.0) {
+      const auto [x, y] = centre(c);
+      if (const double z = ground(x, y); z > crown_z) crown_z = z, crown = c;
+    }
+  if (crown == grid.cells()) return j;
+  const auto [cx, cy] = centre(crown);
+  for (std::size_t c = 0; c < grid.cells(); ++c)
+    if (peak_thickness[c] > 0.0) {
+      const auto [x, y] = centre(c);
+      if (const double d = std::hypot(x - cx, y - cy); d > farthest) farthest = d, tip = c;
+    }
+  const auto [tx, ty] = centre(tip);
+  const double tip_z = ground(tx, ty), drop = crown_z - tip_z;
+  j["crown"] = {cx + grid.origin[0], cy + grid.origin[1], crown_z + origin_z};
+  j["tip"] = {tx + grid.origin[0], ty + grid.origin[1], tip_z + origin_z};
+  j["runout_length_m"] = farthest;
+  j["drop_height_m"] = drop;
+  j["fahrboschung_angle_deg"] = std::atan2(drop, farthest) * 180.0 / 3.14159265358979323846;
+  return j;
+}
+
+template <int D>
+nlohmann::json PeakMaps<D>::figures(const std::vector<double>& deposit) const {
+  const MapsSettings& M = settings_;
+  std::function<double(double, double)> ground;
+  if (M.dem) ground = [&M](double x, double y) { return M.dem->elevation(x, y); };
+  return map_figures(D, M.grid, cell_area(), thickness_, speed_, deposit, release_, ground,
+                     M.origin_z);
 }
 
 template <int D>

@@ -21,6 +21,8 @@
 #include "talus/solver/simulation.hpp"
 
 #include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -50,6 +52,22 @@ void write_outline(const std::string& path, const MapGrid& grid, const std::vect
 // 3 high, 2 medium, 1 low, NaN never reached (h = 0).
 double intensity_class(double h, double v, const MapsSettings& m);
 
+// The maps' figures (summary.json "maps"), from the peak thickness, the peak speed, the
+// deposit and the release thickness on `grid` (cells of `area` m^2; in 2D the grid is one row
+// along x, `area` its cells' length, and volumes are per unit width):
+// - the impact area (peak thickness > 0) and the deposit area, the release and deposit volumes,
+//   the largest peak speed;
+// - with `ground` (the ground's elevation at a local point, the DEM's): the crown, the release
+//   cell whose ground is highest, and the tip, the impact cell farthest from it in plan (cell
+//   centres, [E, N, z] with the grid's origin and `origin_z` added back); the run-out length L
+//   between them in plan, the drop H, and the Fahrboschung angle atan(H / L).
+nlohmann::json map_figures(int dimension, const MapGrid& grid, double area,
+                           const std::vector<double>& peak_thickness,
+                           const std::vector<double>& peak_speed,
+                           const std::vector<double>& deposit, const std::vector<double>& release,
+                           const std::function<double(double, double)>& ground = {},
+                           double origin_z = 0.0);
+
 template <int D>
 class PeakMaps {
 public:
@@ -78,6 +96,8 @@ public:
   // The mapped bodies' volume per unit area in each cell now (collective); body >= 0: that
   // mapped body's alone.
   std::vector<double> deposit(const Simulation<D>& sim, int body = -1);
+  // The maps' figures with `deposit` (deposit(sim)) as the deposit (map_figures).
+  nlohmann::json figures(const std::vector<double>& deposit) const;
   // With two or more mapped bodies, each one's deposit (in [maps] bodies' order); else none
   // (collective).
   std::vector<std::vector<double>> body_deposits(const Simulation<D>& sim);

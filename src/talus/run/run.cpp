@@ -222,8 +222,11 @@ private:
   // before output starts.
   nlohmann::json results(const FrameTotals<D>* totals = nullptr) {
     if (!monitor_) return nlohmann::json::object();
-    if (totals) return monitor_->json(sim_, *totals, settle_ke_);
-    return monitor_->json(sim_, frame_totals(sim_, monitor_->probe_ids()), settle_ke_);
+    nlohmann::json j =
+        totals ? monitor_->json(sim_, *totals, settle_ke_)
+               : monitor_->json(sim_, frame_totals(sim_, monitor_->probe_ids()), settle_ke_);
+    if (maps_) j["maps"] = maps_->figures(maps_->deposit(sim_)); // collective: the deposit
+    return j;
   }
 
   // summary.json with status "running": from the first step on, updated at each frame and each

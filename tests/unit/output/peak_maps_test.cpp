@@ -14,6 +14,7 @@
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 #include <iterator>
+#include <numbers>
 #include <ogr_spatialref.h>
 #include <sstream>
 #ifdef _OPENMP
@@ -213,6 +214,53 @@ TEST(PeakMaps, A2DSectionGivesItsProfile) {
     EXPECT_NEAR(v[9], v[7] - v[8], 1e-9);
   }
   EXPECT_EQ(rows, 10);
+}
+
+// The maps' figures (summary.json "maps"): the gliding block after 0.5 s has reached 8 cells
+// (2 m^2), lies on 4 (1 m^2), keeps its 0.5 m^3 and went at 2 m/s; with no DEM, no crown.
+// Over a ground falling 1 in 2 along x, a release in the first two cells and an impact area
+// over the first eight: the crown is the first cell, the tip the eighth, 7 m away in plan and
+// 3.5 m lower: a Fahrboschung angle of atan(1/2), with the grid's origin added back.
+TEST(PeakMaps, TheirFigures) {
+  const Case c = test::case_from(gliding_block());
+  Simulation<3> sim(c);
+  PeakMaps<3> maps(c, sim);
+  while (sim.time() < 0.5 - 1e-12) {
+    sim.step(0.5 - sim.time());
+    maps.accumulate(sim, sim.time());
+  }
+  const nlohmann::json f = maps.figures(maps.deposit(sim));
+  EXPECT_DOUBLE_EQ(f["impact_area_m2"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(f["deposit_area_m2"].get<double>(), 1.0);
+  EXPECT_NEAR(f["release_volume_m3"].get<double>(), 0.5, 1e-9);
+  EXPECT_NEAR(f["deposit_volume_m3"].get<double>(), 0.5, 1e-3);
+  EXPECT_NEAR(f["peak_speed_m_s"].get<double>(), speed, 1e-6 * speed);
+  EXPECT_FALSE(f.contains("crown"));
+
+  MapGrid g;
+  g.nx = 10, g.ny = 1, g.dx = g.dy = 1.0, g.origin = {1000.0, 2000.0};
+  std::vector<double> release(10, 0.0), peak(10, 0.0), deposit(10, 0.0), fast(10, 1.0);
+  release[0] = release[1] = 2.0;
+  for (int i = 0; i < 8; ++i)
+    peak[i] = 1.0;
+  deposit[6] = deposit[7] = 2.0;
+  const nlohmann::json r = map_figures(
+      3, g, 1.0, peak, fast, deposit, release, [](double x, double) { return 100.0 - 0.5 * x; },
+      500.0);
+  EXPECT_DOUBLE_EQ(r["impact_area_m2"].get<double>(), 8.0);
+  EXPECT_DOUBLE_EQ(r["release_volume_m3"].get<double>(), 4.0);
+  EXPECT_DOUBLE_EQ(r["deposit_volume_m3"].get<double>(), 4.0);
+  EXPECT_EQ(r["crown"], nlohmann::json({1000.5, 2000.5, 599.75}));
+  EXPECT_EQ(r["tip"], nlohmann::json({1007.5, 2000.5, 596.25}));
+  EXPECT_DOUBLE_EQ(r["runout_length_m"].get<double>(), 7.0);
+  EXPECT_DOUBLE_EQ(r["drop_height_m"].get<double>(), 3.5);
+  EXPECT_NEAR(r["fahrboschung_angle_deg"].get<double>(), std::atan(0.5) * 180.0 / std::numbers::pi,
+              1e-12);
+  // In 2D the same row is a section: lengths, and areas per unit width.
+  const nlohmann::json s = map_figures(2, g, 1.0, peak, fast, deposit, release);
+  EXPECT_DOUBLE_EQ(s["impact_length_m"].get<double>(), 8.0);
+  EXPECT_DOUBLE_EQ(s["deposit_area_m2"].get<double>(), 4.0);
+  EXPECT_FALSE(s.contains("runout_length_m"));
 }
 
 // The GeoTIFF: the grid with its origin added back, north up, the coordinate system, units,
