@@ -39,6 +39,22 @@ const std::vector<Problem>& problems() {
        {"grid.cell_size=4", "initial_state.settle_time=0", "interface.0.friction.slip=0.02",
         "interface.0.cohesion.slip=0.02", "grid.shape_function=\"bspline\""},
        200},
+      // The wet Vaiont: the reservoir's level, the clay band's pore pressure and heating.
+      {"vaiont_wet",
+       "cases/vaiont/three_bodies_wet.toml",
+       {"grid.cell_size=4", "initial_state.settle_time=0", "interface.0.friction.slip=0.02",
+        "interface.0.cohesion.slip=0.02"},
+       200},
+      // Water as a body: a block entering a tank at 2 m/s (a fluid, contact, 88,000 particles).
+      {"tank",
+       "cases/examples/slide_into_tank.toml",
+       {"grid.cell_size=0.00625",
+        "body.slide.polygon=[[0.55, 0.35], [0.691421, 0.208579], [0.762132, 0.279289], "
+        "[0.620711, 0.420711]]",
+        "body.slide.velocity=[1.414214, -1.414214]"},
+       200},
+      // A real DEM in 3D: the volcano slide on its rigid flank and band (the step alone).
+      {"volcano", "cases/examples/volcano_slide.toml", {"initial_state.settle_time=0"}, 400},
   };
   return all;
 }
