@@ -4,6 +4,8 @@
 #include "talus/solver/diagnostics.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace talus {
@@ -39,7 +41,11 @@ FrameTotals<D> frame_totals(const Simulation<D>& sim, const std::vector<std::uin
   const std::size_t all = static_cast<std::size_t>(B) * BodySums<D>::size;
   std::vector<ExactSum> sums(all + 1 + D + 3 * F);
   const std::vector<GaugeSpec>& gauges = sim.case_().gauges;
-  std::vector<double> largest(B + 2 * F + gauges.size(), -std::numeric_limits<double>::infinity());
+  // Largest values: each body's speed, each interface's pressure and temperature, and each
+  // gauge's particle tops row by row (the grid's rows along the vertical).
+  const std::int64_t rows = sim.grid().nodes[D - 1];
+  std::vector<double> largest(B + 2 * F + gauges.size() * static_cast<std::size_t>(rows),
+                              -std::numeric_limits<double>::infinity());
   auto body = [&](int b) { return BodySums<D>{&sums[b * BodySums<D>::size]}; };
   ExactSum* total = &sums[all];
   ExactSum* water = &sums[all + 1 + D];
@@ -80,18 +86,21 @@ FrameTotals<D> frame_totals(const Simulation<D>& sim, const std::vector<std::uin
       largest[B + 2 * f + 1] = std::max(largest[B + 2 * f + 1], T);
     }
   }
-  // The gauges: the highest top (centre + half a spacing) of the body's particles within half a
-  // cell of the gauge's point in plan.
-  const double half = 0.5 * sim.grid().h;
+  // The gauges: the tops (centre + half a spacing) of the body's particles within half a cell of
+  // the gauge's point in plan, the highest in each grid row (the column read after the sums).
+  const double h = sim.grid().h, half = 0.5 * h, z0 = sim.grid().origin[D - 1];
   for (std::size_t k = 0; k < gauges.size(); ++k) {
     const GaugeSpec& g = gauges[k];
-    const double top = 0.5 * sim.grid().h / sim.case_().bodies[g.body].particles_per_cell;
-    double& high = largest[B + 2 * F + k];
+    const double top = 0.5 * h / sim.case_().bodies[g.body].particles_per_cell;
+    double* row_top = &largest[B + 2 * F + k * static_cast<std::size_t>(rows)];
     for (std::size_t p = P.body_begin[g.body]; p < P.body_begin[g.body + 1]; ++p) {
       bool over = sim.is_own(p);
       for (int d = 0; d < D - 1 && over; ++d)
         over = std::abs(P.x[p][d] - g.at[d]) <= half;
-      if (over) high = std::max(high, P.x[p][D - 1] + top);
+      if (!over) continue;
+      const auto r = std::clamp<std::int64_t>(
+          static_cast<std::int64_t>(std::floor((P.x[p][D - 1] - z0) / h)), 0, rows - 1);
+      row_top[r] = std::max(row_top[r], P.x[p][D - 1] + top);
     }
   }
   // The probes' particles, from the process that owns each (one contributor per entry).
@@ -142,8 +151,16 @@ FrameTotals<D> frame_totals(const Simulation<D>& sim, const std::vector<std::uin
     }
     t.water.push_back(w);
   }
-  for (std::size_t k = 0; k < gauges.size(); ++k) { // dry: no data
-    const double high = largest[B + 2 * F + k];
+  // Each gauge's surface: the top of its column from the lowest particle up to the first row
+  // with none, so that spray thrown clear of the surface does not count (dry: no data).
+  for (std::size_t k = 0; k < gauges.size(); ++k) {
+    const double* row_top = &largest[B + 2 * F + k * static_cast<std::size_t>(rows)];
+    std::int64_t r = 0;
+    while (r < rows && !std::isfinite(row_top[r]))
+      ++r;
+    double high = -std::numeric_limits<double>::infinity();
+    for (; r < rows && std::isfinite(row_top[r]); ++r)
+      high = std::max(high, row_top[r]);
     t.gauges.push_back(std::isfinite(high) ? high : std::numeric_limits<double>::quiet_NaN());
   }
   for (std::size_t k = 0; k < probe_ids.size(); ++k) {

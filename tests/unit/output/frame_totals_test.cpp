@@ -4,6 +4,7 @@
 #include "talus/solver/diagnostics.hpp"
 #include "two_bodies.hpp"
 
+#include <cmath>
 #include <gtest/gtest.h>
 
 using namespace talus;
@@ -108,4 +109,22 @@ TEST(FrameTotals, ProbesFollowTheirParticles) {
   EXPECT_EQ(P.body_of(sim.index_of(ids[0])), 1); // "top" is in the upper block
   EXPECT_LT((P.x[sim.index_of(ids[0])] - Vec<2>(0.8, 0.6)).norm(), 0.1);
   EXPECT_EQ(P.body_of(sim.index_of(ids[1])), 0);
+}
+
+// A surface gauge reads the top of the body's column over its point (lower's top at 0.4 m: its
+// top particles at 0.375 m plus half their 0.05 m spacing; 0.1 m cells). A particle thrown clear
+// of it (an empty grid row between) is spray and does not count; one in the row just above the
+// top joins the column and does.
+TEST(FrameTotals, GaugesReadTheContiguousSurface) {
+  Simulation<2> sim(
+      test::case_from(test::two_blocks("[[gauge]]\nname = \"g\"\nbody = \"lower\"\nat = 1.5\n")));
+  EXPECT_DOUBLE_EQ(frame_totals(sim, {}).gauges.at(0), 0.4);
+  Particles<2>& P = sim.particles_mut();
+  std::size_t p = 0; // one of lower's particles under the gauge, near its bottom
+  while (P.body_of(p) != 0 || std::abs(P.x[p][0] - 1.525) > 1e-9 || P.x[p][1] > 0.25)
+    ++p;
+  P.x[p][1] = 0.85; // spray: rows 4-7 (0.4-0.8 m) are empty under it
+  EXPECT_DOUBLE_EQ(frame_totals(sim, {}).gauges.at(0), 0.4);
+  P.x[p][1] = 0.45; // on the surface: row 4 (0.4-0.5 m) joins rows 2-3
+  EXPECT_DOUBLE_EQ(frame_totals(sim, {}).gauges.at(0), 0.475);
 }
