@@ -42,10 +42,12 @@ move_particle(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const Bo
 // Whether particle p, found outside the grid [lo, hi] or not finite, is fine once put back on
 // the walls it crossed. A wall is impenetrable: a particle carried past one (a FLIP velocity's
 // normal part, which the wall's nodes do not see) goes back onto it and loses its outward
-// velocity; past a free face it has left the grid.
+// velocity; past a free face it has left the grid. A rigid body's particles follow its
+// prescribed motion: one driven through a wall has left the grid too.
 template <int D>
-bool put_back_on_walls(Particles<D>& P, std::size_t p, const Vec<D>& lo, const Vec<D>& hi,
-                       const std::array<bool, 2 * D>& closed) {
+bool put_back_on_walls(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const Vec<D>& lo,
+                       const Vec<D>& hi, const std::array<bool, 2 * D>& closed) {
+  if (body.rigid) return false;
   for (int d = 0; d < D; ++d) {
     if (P.x[p][d] < lo[d] && closed[2 * d]) P.x[p][d] = lo[d], P.v[p][d] = std::max(P.v[p][d], 0.0);
     if (P.x[p][d] > hi[d] && closed[2 * d + 1])
@@ -75,7 +77,7 @@ void Simulation<D>::update_particles(double dt) {
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
       move_particle(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
-      if (!detail::motion_ok(P, p, lo, hi) && !put_back_on_walls(P, p, lo, hi, closed))
+      if (!detail::motion_ok(P, p, lo, hi) && !put_back_on_walls(P, p, body, lo, hi, closed))
         detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
     }
   }
@@ -100,7 +102,8 @@ void Simulation<D>::update_particles_and_remap(double dt) {
     BodyField<D>& N = fields_[P.field[p]];
     const ShapeWeights<D>& sw = shape_.weights[p];
     move_particle(P, p, setup_.bodies[b], N, sw, flip, dt);
-    if (!detail::motion_ok(P, p, lo, hi) && !put_back_on_walls(P, p, lo, hi, closed))
+    if (!detail::motion_ok(P, p, lo, hi) &&
+        !put_back_on_walls(P, p, setup_.bodies[b], lo, hi, closed))
       detail::record_bad(gone, p, exchange_);
     const Vec<D> mv_p = P.m[p] * P.v[p];
     for_each_node(N.box, sw,

@@ -42,7 +42,8 @@ TYPED_TEST(G2P, PicGatherReturnsTheGridMomentum) {
 
 // A face that is a wall (fixed, slip or friction) keeps particles in: a block thrown at it at
 // 2 km/s, FLIP 1 (its velocity kept), one step of 1 ms (2 m), ends on the wall with no velocity
-// into it, where a free face lets it leave (BadState.StopsWithTheStepThatMadeIt).
+// into it, where a free face lets it leave (BadState.StopsWithTheStepThatMadeIt); a rigid body
+// driven through the wall is stopped as having left the grid.
 TYPED_TEST(G2P, WallsKeepParticlesIn) {
   constexpr int D = TypeParam::value;
   for (const char* wall : {"\"fixed\"", "\"slip\"", "{ friction = 0.3 }"})
@@ -59,6 +60,18 @@ TYPED_TEST(G2P, WallsKeepParticlesIn) {
         ASSERT_GE(P.v[p][0], 0.0) << wall << ", " << scheme << ", particle " << p;
       }
     }
+  // A rigid body driven through a wall keeps its prescribed motion: it has left the grid.
+  const std::string rigid =
+      block_case<D>("gimp", "musl", 1.0) + "rigid = true\n[grid.boundary]\nx_min = \"slip\"\n";
+  Simulation<D> sim(
+      test::case_from(rigid, {"simulation.dt=1e-3", D == 2 ? "body.a.velocity=[-2000, 0]"
+                                                           : "body.a.velocity=[-2000, 0, 0]"}));
+  try {
+    sim.step();
+    ADD_FAILURE() << "a rigid body driven through a wall was not stopped";
+  } catch (const SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("left the grid"), std::string::npos) << e.what();
+  }
 }
 
 } // namespace
