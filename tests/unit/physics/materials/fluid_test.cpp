@@ -45,8 +45,8 @@ extent = [1.0, 1.0]
 cell_size = 0.1
 )";
 
-TEST(Fluid, CaseKeysAreReadAndBadOnesNamed) {
-  const std::string head = square + R"(
+// The square with water 0.5 m deep, its material's keys to follow.
+const std::string water_case = square + R"(
 [[body]]
 name = "water"
 material = "water"
@@ -56,6 +56,9 @@ name = "water"
 model = "fluid"
 density = 1000.0
 )";
+
+TEST(Fluid, CaseKeysAreReadAndBadOnesNamed) {
+  const std::string& head = water_case;
   const Case c = test::case_from(head + "sound_speed = 20.0\n");
   const auto& f = std::get<Fluid>(c.materials[0].model);
   EXPECT_DOUBLE_EQ(f.bulk, 4.0e5);
@@ -94,21 +97,11 @@ density = 1000.0
 // A viscous fluid's step is held below the explicit diffusion limit, CFL rho h^2 / (2 D mu);
 // water's wave step is far shorter than its.
 TEST(Fluid, AViscousFluidsStepIsItsDiffusionLimit) {
-  const std::string body = R"(
-[[body]]
-name = "water"
-material = "water"
-box = { min = [0.0, 0.0], max = [1.0, 0.5] }
-[[material]]
-name = "water"
-model = "fluid"
-density = 1000.0
-sound_speed = 20.0
-)";
-  const Case thick = test::case_from(square + body + "viscosity = 1.0e4\n");
+  const std::string text = water_case + "sound_speed = 20.0\n";
+  const Case thick = test::case_from(text + "viscosity = 1.0e4\n");
   const Simulation<2> a(thick);
   EXPECT_DOUBLE_EQ(a.compute_time_step(), thick.simulation.cfl * 1000.0 * 0.01 / (4.0 * 1.0e4));
-  const Case water = test::case_from(square + body);
+  const Case water = test::case_from(text);
   const Simulation<2> b(water);
   EXPECT_NEAR(b.compute_time_step(), water.simulation.cfl * 0.1 / 20.0, 1e-3 * 0.1 / 20.0);
 }
