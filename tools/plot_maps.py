@@ -6,6 +6,8 @@ coordinates (the rasters' own, the [terrain] origin added back), framed on the a
 reached with a margin of half its size (--whole: the whole raster). Cells the field never
 reached are left clear; the intensity classes are drawn in the colours of Swiss hazard maps
 (low yellow, medium blue, high red) with their thresholds. Written to RUN_DIR/plots/map_FIELD.png (or --out DIR).
+A sweep's folder (talus sweep) is drawn the same way: its probability maps
+(maps/probability_*.tif, the share of the runs), over the first run's ground.
 
 A 2D run's maps (maps/profile.csv) are drawn as its profile along the section: thickness
 (peak, deposit, release), peak speed (shaded by intensity class: blue medium, red high) and
@@ -127,6 +129,12 @@ def nice_length(span):
 ground, extent, _ = read("elevation")
 release, _, _ = read("release_thickness")
 reached, full, _ = read("peak_thickness")
+if reached is None:  # a sweep's folder: frame on the cells any run reached
+    reached, full, _ = read("probability_reached")
+if full is None:
+    raise SystemExit(f"{maps}: no map to draw")
+# A sweep's probability maps: the share of its runs above each threshold (tools/sweep.py).
+PROBABILITY = {p.stem: (None, "YlOrRd") for p in sorted(maps.glob("probability_*.tif"))}
 
 
 def frame():
@@ -150,11 +158,14 @@ def frame():
 
 view = frame()
 written = []
-for stem, (title, cmap) in FIELDS.items():
+for stem, (title, cmap) in {**FIELDS, **PROBABILITY}.items():
     data, ext, meta = read(stem)
     if data is None:
         continue
     unit, tags = meta
+    share = stem in PROBABILITY
+    if share:
+        title = band_description(stem).replace("share of", "Share of", 1)
     signed = stem == "thickness_change"  # erosion (negative) and deposition (positive)
     if signed:
         shown = np.where(np.isnan(data) | (data == 0.0), np.nan, data)
@@ -177,6 +188,7 @@ for stem, (title, cmap) in FIELDS.items():
     classes = stem == "intensity"
     im = ax.imshow(shown, extent=ext, cmap=cmap, alpha=0.85, interpolation="nearest",
                    **(dict(vmin=0.5, vmax=3.5) if classes else {}),
+                   **(dict(vmin=0.0, vmax=1.0) if share else {}),
                    **(dict(vmin=-np.nanmax(np.abs(shown)), vmax=np.nanmax(np.abs(shown)))
                       if signed and np.isfinite(shown).any() else {}))
     if release is not None and np.nanmax(release) > 0.0:
@@ -189,6 +201,8 @@ for stem, (title, cmap) in FIELDS.items():
     if classes:
         bar.ax.set_yticklabels(["low", "medium", "high"])
         bar.set_label(f"{title.lower()}: {band_description(stem)}", fontsize=7)
+    elif share:
+        bar.set_label("share of the runs")
     else:
         bar.set_label(f"{title.lower()} ({unit})")
     # Framed on the view; scale bar (bottom right) and north arrow (top right) in its metres.
@@ -208,8 +222,12 @@ for stem, (title, cmap) in FIELDS.items():
     ax.set_ylabel("northing (m)")
     ax.set_aspect("equal")
     bodies = tags.get("TALUS_BODIES", "")
-    ax.set_title(f"{title}: {bodies}\nmoving above {tags.get('TALUS_MOVING_SPEED_M_S', '?')} m/s, "
-                 f"at t = {float(tags.get('TALUS_TIME_S', 'nan')):.3g} s", fontsize=10)
+    if share:
+        ax.set_title(title, fontsize=10)
+    else:
+        ax.set_title(f"{title}: {bodies}\nmoving above {tags.get('TALUS_MOVING_SPEED_M_S', '?')} m/s, "
+                     f"at t = {float(tags.get('TALUS_TIME_S', 'nan')):.3g} s",
+                     fontsize=10)
     ax.ticklabel_format(useOffset=False, style="plain")
     fig.tight_layout()
     path = out / f"map_{stem}.png"

@@ -1,5 +1,6 @@
 // talus: run | check | --version. A thin shell over the library; every error is one clear line.
 #include "bench.hpp"
+#include "sweep.hpp"
 #include "talus/case/geometry.hpp"
 #include "talus/case/parse.hpp"
 #include "talus/case/size.hpp"
@@ -130,6 +131,15 @@ int run_and_report(F&& go) {
   return 0;
 }
 
+// This program's own path (verify and sweep hand it to their Python drivers); empty if unknown.
+std::string self_path() {
+  char self[4096];
+  const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n <= 0) return {};
+  self[n] = 0;
+  return self;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -216,6 +226,24 @@ int main(int argc, char** argv) {
                    "run every check again with this shape function: a column of the report")
       ->check(CLI::IsMember({"linear", "gimp", "bspline"}));
 
+  talus::SweepOptions sweep_opt;
+  sweep_opt.source_dir = TALUS_SOURCE_DIR;
+  auto* sweep = app.add_subcommand(
+      "sweep", "an ensemble of runs of a case ([sweep]): a table, probability maps, a ranking");
+  sweep->add_option("case", sweep_opt.case_file, "case file (TOML) with a [sweep] table")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sweep->add_option("--out,-o", sweep_opt.out_dir,
+                    "sweep folder (default: runs/<case name>_sweep); an existing one is resumed");
+  sweep->add_option("--set", sweep_opt.overrides, "override a key for every run (repeatable)");
+  sweep->add_option("--jobs,-j", sweep_opt.jobs, "runs at once (default: the cores / threads)")
+      ->check(CLI::Range(1, 1024));
+  sweep->add_option("--threads,-t", sweep_opt.threads, "OpenMP threads per run (default: 1)")
+      ->check(CLI::Range(1, 1024));
+  sweep->add_option("--launcher", sweep_opt.launcher,
+                    "run each run under this command (e.g. \"mpirun -np 2\" with the mpi build)");
+  sweep->add_option("--source", sweep_opt.source_dir, "the Talus source folder");
+
   // Command-line errors exit with status 2, as case-file errors do (help and version: 0).
   try {
     app.parse(argc, argv);
@@ -234,13 +262,11 @@ int main(int argc, char** argv) {
       fmt::print(stderr, "error: verify: --cases needs case names (file stems), not options\n");
       return 2;
     }
-    char self[4096];
-    const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
-    if (n <= 0) {
+    const std::string self = self_path();
+    if (self.empty()) {
       fmt::print(stderr, "error: verify: cannot find this program's path\n");
       return 2;
     }
-    self[n] = 0;
     std::vector<std::string> args = {"/usr/bin/python3",
                                      source_dir + "/tools/verify.py",
                                      "--talus",
@@ -264,6 +290,15 @@ int main(int argc, char** argv) {
     ::execv(argv2[0], argv2.data());
     fmt::print(stderr, "error: verify: cannot run {}: {}\n", args[0], std::strerror(errno));
     return 2;
+  }
+  if (sweep->parsed()) {
+    sweep_opt.self = self_path();
+    try {
+      return talus::run_sweep(sweep_opt);
+    } catch (const talus::CaseError& e) {
+      fmt::print(stderr, "error: {}\n", e.what());
+      return 2;
+    }
   }
   if (bench->parsed()) {
     try {

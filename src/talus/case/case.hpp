@@ -256,6 +256,41 @@ struct MapsSettings {
   double origin_z = 0.0;             // the [terrain] origin's z, added back to the ground
 };
 
+// One parameter of an ensemble ([[sweep.parameter]], `talus sweep`, tools/sweep.py): a `--set`
+// key and how its values are drawn. The solver does not use these; they are validated here.
+struct SweepParameter {
+  std::string key;
+  std::string distribution = "uniform"; // uniform, normal, lognormal, triangular (Latin hypercube)
+  std::optional<double> lo, hi;         // range (uniform, triangular; bounds of normal/lognormal)
+  std::optional<double> mean, sd, mode; // normal and lognormal: of the value; triangular: mode
+  int levels = 0;                       // grid design: evenly spaced values over the range
+  std::vector<std::string> values;      // a list of values (TOML text) instead of a range
+  long line = 0;                        // where `key` is written, for the sweep's messages
+};
+
+// [sweep]: the ensemble `talus sweep` runs, and the thresholds of its probability maps.
+struct SweepSettings {
+  bool present = false;
+  std::string design = "lhs"; // "lhs" (Latin hypercube, `runs` runs) or "grid" (all levels)
+  int runs = 0;
+  long long seed = 1;
+  std::vector<SweepParameter> parameters;
+  // Probability maps: field (peak_thickness, peak_speed, peak_kinetic_energy, peak_pressure) ->
+  // thresholds; the share of runs whose peak exceeds each is mapped.
+  std::vector<std::pair<std::string, std::vector<double>>> exceed;
+};
+
+// [observed]: what was seen, for a sweep's back-analysis (each run scored against it).
+struct ObservedSettings {
+  bool present = false;
+  std::string impact_area;       // polygons (GeoJSON or anything GDAL reads) in the maps' system
+  std::string deposit_thickness; // a raster on the maps' grid (m)
+  double deposit_threshold = 0.1; // m: thicker counts as deposit
+  // summary.json `results` figures: key path ("maps.runout_length_m") -> [lo, hi] (lo = hi for a
+  // single value).
+  std::vector<std::pair<std::string, std::array<double, 2>>> figures;
+};
+
 struct Case {
   std::string title;
   std::string file; // path of the case file as given
@@ -280,6 +315,8 @@ struct Case {
   MapsSettings maps;
   std::vector<CheckSpec> checks;
   VerifySettings verify;
+  SweepSettings sweep;
+  ObservedSettings observed;
 };
 
 } // namespace talus

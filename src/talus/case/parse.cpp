@@ -4,6 +4,7 @@
 #include "talus/case/read_geometry.hpp"
 #include "talus/case/read_materials.hpp"
 #include "talus/case/read_outputs.hpp"
+#include "talus/case/read_sweep.hpp"
 #include "talus/case/run_entries.hpp"
 #include "talus/case/size.hpp"
 #include "talus/case/toml_reader.hpp"
@@ -484,6 +485,8 @@ Case parse_case_text(const std::string& text, const std::string& path,
   read_maps(root, c);
   read_checks(root, c);
   read_verify(root, c);
+  read_sweep(root, c);
+  read_observed(root, c, files);
   root.finish();
   c.inputs = files.files();
   c.text = text_as_run(text, overrides, files);
