@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Writes the elevation rasters (ESRI ASCII grids, which GDAL reads) that Talus's terrain cases
-ship:
+"""Writes the elevation rasters (ESRI ASCII grids, which GDAL reads, or GeoTIFF where a name ends
+in .tif) that Talus's terrain cases ship:
 
   plane OUT.asc --slope DEG --extent X Y --cell H --height Z0
       the plane z = Z0 - x tan(slope) over [0, X] x [0, Y] (cases/benchmarks/terrain_block.toml)
@@ -12,11 +12,16 @@ ship:
       rises at DEG degrees over the last B metres on either side (a valley whose flanks close the
       slide in) (cases/vaiont/3d/)
 
-  bowl DEM.asc OUT.asc --centre X Y --axes A B --depth D [--footprint OUT.csv]
-      a failure surface under a ground raster: the ground lowered by the half-ellipsoid
-      D (1 - ((x - X)/A)^2 - ((y - Y)/B)^2) inside the ellipse and equal to it outside, on the
-      ground's own cells (cases/examples/volcano/); --footprint writes the ellipse as a 48-gon
-      CSV (x,y) for the slide's footprint
+  bowl DEM OUT --centre X Y --axes A B --depth D [--footprint OUT.csv]
+      a failure surface under a ground raster (ESRI ASCII, GeoTIFF or anything GDAL reads): the
+      ground lowered by the half-ellipsoid D (1 - ((x - X)/A)^2 - ((y - Y)/B)^2) inside the
+      ellipse and equal to it outside, on the ground's own cells and in its coordinate system
+      (cases/examples/volcano/); --footprint writes the ellipse as a 48-gon CSV (x,y) for the
+      slide's footprint
+
+  georeference IN.asc OUT.tif --epsg CODE --corner E N
+      a local grid placed in a projected coordinate system: its south-west corner at (E, N), the
+      system's EPSG code in the GeoTIFF (docs/hazard-maps.md makes its DEM so)
 
 Each cell holds the surface at its centre; the grid's south-west corner is the origin (plane,
 section; bowl keeps the DEM's).
@@ -36,6 +41,33 @@ def write_asc(path, z, x0, y0, cell):
                 "NODATA_value -9999\n")
         for row in z[::-1]:
             f.write(" ".join(f"{v:.4f}" for v in row) + "\n")
+
+
+def read_raster(path):
+    """Any raster GDAL reads: (z[j, i] with j along y from the south, x0, y0, cell, profile)."""
+    if str(path).lower().endswith(".asc"):
+        return (*read_asc(path), None)
+    import rasterio
+    with rasterio.open(path) as r:
+        t = r.transform
+        if t.b != 0 or t.d != 0 or abs(t.a) != abs(t.e):
+            raise SystemExit(f"make_rasters.py: {path}: a rotated or non-square grid")
+        z = r.read(1).astype(float)[::-1]
+        return z, t.c, t.f + t.e * r.height, t.a, r.profile
+
+
+def write_raster(path, z, x0, y0, cell, profile=None, epsg=None):
+    """ESRI ASCII, or GeoTIFF (DEFLATE, north up, no data -9999) where the name ends in .tif."""
+    if not str(path).lower().endswith(".tif"):
+        return write_asc(path, z, x0, y0, cell)
+    import rasterio
+    from rasterio.transform import from_origin
+    ny, nx = z.shape
+    crs = rasterio.crs.CRS.from_epsg(epsg) if epsg else (profile or {}).get("crs")
+    with rasterio.open(path, "w", driver="GTiff", width=nx, height=ny, count=1,
+                       dtype="float32", crs=crs, nodata=-9999.0, compress="deflate",
+                       transform=from_origin(x0, y0 + ny * cell, cell, cell)) as w:
+        w.write(z[::-1].astype("float32"), 1)
 
 
 def read_asc(path):
@@ -79,18 +111,26 @@ b.add_argument("--centre", type=float, nargs=2, required=True)
 b.add_argument("--axes", type=float, nargs=2, required=True)
 b.add_argument("--depth", type=float, required=True)
 b.add_argument("--footprint")
+g = sub.add_parser("georeference")
+g.add_argument("src")
+g.add_argument("out")
+g.add_argument("--epsg", type=int, required=True)
+g.add_argument("--corner", type=float, nargs=2, required=True)
 a = ap.parse_args()
 
 if a.kind == "plane":
     x, y = centres(a.extent[0], a.cell), centres(a.extent[1], a.cell)
     z = a.height - np.tan(math.radians(a.slope)) * x[None, :] + 0.0 * y[:, None]
     write_asc(a.out, z, 0.0, 0.0, a.cell)
+elif a.kind == "georeference":
+    z, _, _, cell, _ = read_raster(a.src)
+    write_raster(a.out, z, a.corner[0], a.corner[1], cell, epsg=a.epsg)
 elif a.kind == "bowl":
-    z, x0, y0, cell = read_asc(a.dem)
+    z, x0, y0, cell, profile = read_raster(a.dem)
     ny, nx = z.shape
     x, y = x0 + (np.arange(nx) + 0.5) * cell, y0 + (np.arange(ny) + 0.5) * cell
     r2 = ((x[None, :] - a.centre[0]) / a.axes[0]) ** 2 + ((y[:, None] - a.centre[1]) / a.axes[1]) ** 2
-    write_asc(a.out, z - a.depth * np.maximum(0.0, 1.0 - r2), x0, y0, cell)
+    write_raster(a.out, z - a.depth * np.maximum(0.0, 1.0 - r2), x0, y0, cell, profile)
     if a.footprint:
         with open(a.footprint, "w") as f:
             f.write("x,y\n")
