@@ -11,6 +11,7 @@ plot_maps.py draws.
 Usage: maps_test.py TALUS SOURCE_DIR WORK_DIR
 """
 import json
+import math
 import shutil
 import subprocess
 import sys
@@ -131,6 +132,65 @@ else:
     png = section / "plots" / "profile.png"
     if p.returncode != 0 or not png.exists() or png.stat().st_size < 20000:
         failures.append(f"plot_maps.py on a 2D run: exit {p.returncode}: {p.stderr}")
+
+# A block down a raster plane (cases/benchmarks/terrain_block.toml: a 1 m square footprint,
+# 0.57735 m high, on z = 2.6 - x tan 30): the release and deposit thickness integrate to its
+# volume; the arrival time in each cell ahead of it is the closed form's, the time its front
+# (the leading particles, a quarter cell behind the face at x = 1.4 m) needs to reach the cell's
+# west edge, x(t) = a t^2 / 2 with a = g (sin 30 - mu cos 30) cos 30 in plan, within a cell's
+# travel time; and a block that friction holds (mu 0.7 > tan 30) maps nothing moving and a
+# deposit that is its release, up to the elastic block's volume change under its own weight
+# (|dJ| <= rho g h / K = 2.7e-4 with K = E / (3 (1 - 2 nu)) = 41.7 MPa).
+def block_maps(mu, end):
+    folder = work / f"block_mu{mu}"
+    p = subprocess.run([talus, "run", str(source / "cases/benchmarks/terrain_block.toml"),
+                        "--out", str(folder), "--set", 'maps.bodies=["block"]', "--set",
+                        "maps.cell_size=0.1", "--set", f"contact.0.friction={mu}", "--set",
+                        f"simulation.end_time={end}", "--threads", "2"],
+                       capture_output=True, text=True, timeout=600)
+    if p.returncode != 0:
+        sys.exit(f"terrain block, mu {mu}: exit {p.returncode}: {p.stderr[-800:]}")
+    out = {}
+    for stem in ("release_thickness", "deposit_thickness", "arrival_time", "peak_thickness",
+                 "peak_speed"):
+        with rasterio.open(folder / "maps" / f"{stem}.tif") as r:
+            out[stem], transform = r.read(1, masked=True), r.transform
+    return out, transform
+
+
+volume, cell_area = 0.57735, 0.01
+for mu in (0.0, 0.3):
+    m, tr = block_maps(mu, 0.6)
+    for stem in ("release_thickness", "deposit_thickness"):
+        v = float(m[stem].filled(0).sum()) * cell_area
+        if abs(v / volume - 1) > 0.01:
+            failures.append(f"block, mu {mu}: {stem} integrates to {v:.5f} m^3, not {volume}")
+    c30 = math.cos(math.radians(30))
+    a = 9.81 * (0.5 - mu * c30) * c30
+    checked = 0
+    for i in range(15, m["arrival_time"].shape[1]):
+        west = tr.c + i * tr.a
+        expected = math.sqrt(2 * (west - (1.4 - 0.025)) / a)
+        if expected > 0.6:
+            break
+        travel = tr.a / (a * expected)
+        for j in range(4, 12):  # the rows under the block's footprint (y 0.3-1.3 m)
+            got = float(m["arrival_time"][j, i])
+            checked += 1
+            if abs(got - expected) > travel:
+                failures.append(f"block, mu {mu}: arrival at x {west:.1f} m (row {j}) "
+                                f"{got:.4f} s against {expected:.4f} s (a cell: {travel:.4f} s)")
+    if checked < 16:
+        failures.append(f"block, mu {mu}: only {checked} arrival cells checked")
+m, _ = block_maps(0.7, 0.3)
+if m["peak_thickness"].filled(0).max() != 0 or m["peak_speed"].filled(0).max() != 0 or \
+        (~m["arrival_time"].mask).any():
+    failures.append("a block held by friction: something mapped as moving")
+release = m["release_thickness"].filled(0)
+change = np.abs(m["deposit_thickness"].filled(0) - release).max() / release.max()
+if (release > 0).sum() < 90 or change > 2000 * 9.81 * 0.57735 / (50e6 / 1.2):
+    failures.append(f"a block held by friction: its deposit is not its release ({change:.2e})")
+
 for f in failures:
     print("FAIL", f)
 print(f"maps: {reached.sum()} cells reached, peak {h.max():.1f} m, {u.max():.1f} m/s; "
