@@ -28,6 +28,7 @@ Usage (through talus): talus sweep CASE.toml [--out DIR] [--jobs N] [--threads T
 """
 import argparse
 import fcntl
+import hashlib
 import json
 import math
 import os
@@ -217,13 +218,13 @@ class Runner:
             if not self.children:
                 break
             try:
-                pid, _ = os.wait()
+                pid, wait_status = os.wait()
             except ChildProcessError:
                 break
             if pid not in self.children:
                 continue
             child, i, fresh, log = self.children.pop(pid)
-            child.wait()
+            child.returncode = os.waitstatus_to_exitcode(wait_status)  # reaped here, not by Popen
             log.close()
             st = status(self.folder / self.names[i])
             print(f"{self.names[i]}: {st} ({child.returncode})", flush=True)
@@ -432,7 +433,11 @@ def main():
 
     # The sweep folder: new, or this sweep's own (same plan and design), locked while in use.
     folder = Path(a.out)
-    record = {"plan": plan, "runs": [{"run": n, "set": v} for n, v in zip(names, values)]}
+    # The case file's bytes are part of the record: a case edited since the sweep began would mix
+    # two cases in one table.
+    case_hash = hashlib.sha256(Path(plan["case"]).read_bytes()).hexdigest()
+    record = {"plan": plan, "case_sha256": case_hash,
+              "runs": [{"run": n, "set": v} for n, v in zip(names, values)]}
     if folder.exists() and not folder.is_dir():
         fail(f"{folder}: not a folder")
     folder.mkdir(parents=True, exist_ok=True)
@@ -448,8 +453,9 @@ def main():
         except ValueError:
             fail(f"{existing}: unreadable; give another --out")
         if before != record:
-            fail(f"{folder}: holds another sweep (its case, overrides or design differ): give "
-                 "another --out")
+            what = ("the case file changed since it began" if before.get("plan") == plan
+                    else "its case, overrides or design differ")
+            fail(f"{folder}: holds another sweep ({what}): give another --out")
     else:
         foreign = [p.name for p in folder.iterdir() if p.name != ".talus_sweep.lock"]
         if foreign:

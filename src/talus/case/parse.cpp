@@ -369,7 +369,7 @@ void read_initial_state(TableReader& root, Case& c) {
 }
 
 // [water]: a hydrostatic level, and the water's density, below the saturated density of every
-// deformable body's material (a saturated soil is heavier than water).
+// deformable body's material (a saturated soil is heavier than water; a water body is the water).
 void read_water(TableReader& root, Case& c) {
   const toml::table* w = root.table("water");
   if (!w) return;
@@ -383,7 +383,7 @@ void read_water(TableReader& root, Case& c) {
   require(rw, "level", g > 0.0, "a water level needs gravity (simulation.gravity is zero)");
   for (const BodySpec& b : c.bodies) {
     const Material& m = c.materials[b.material];
-    if (!b.rigid && m.density() <= c.water.density)
+    if (!b.rigid && !std::holds_alternative<Fluid>(m.model) && m.density() <= c.water.density)
       rw.fail("density",
               fmt::format("{} kg/m^3 is not below the density of material '{}' ({} kg/m^3) of "
                           "body '{}': below the level a material's density is the saturated one",

@@ -44,14 +44,21 @@ struct BodyField {
   // pressurization the frictional work of the step per unit of that weight (J/m^2), shared out
   // as heat.
   std::vector<double> pore_force, heat_weight, normal_stress, heat;
+  // A water body's hydrostatic load below the [water] level: the force its weight and the
+  // hydrostatic pressure u = rho_w g (level - z) put on each node, sum N m g + V u grad N, which
+  // is zero inside the water and, where a buoyed body meets it, the load that body's buoyancy
+  // already stands for (Simulation::hold_hydrostatic_load).
+  std::vector<Vec<D>> hydro;
   int slots = 0; // the body's interfaces
 
   // Which of the optional arrays the run uses: contact (grad_m, mx: two or more bodies),
   // interfaces (the six interface arrays: a body with an interface), MUSL's re-map (v_remap),
-  // the interfaces' pore pressure and frictional heat (pressure, heating).
+  // the interfaces' pore pressure and frictional heat (pressure, heating), a water body's
+  // hydrostatic load beside buoyed bodies (hydro).
   // Arrays a run does not use stay empty: no memory, no clearing, no scatter.
   struct Needs {
-    bool contact = true, interfaces = true, remap = true, pressure = false, heating = false;
+    bool contact = true, interfaces = true, remap = true, pressure = false, heating = false,
+         hydro = false;
   } needs;
 
   std::size_t size() const { return m.size(); }
@@ -81,6 +88,7 @@ struct BodyField {
     clear(p, Vec<D>::Zero());
     clear(f, Vec<D>::Zero());
     if (needs.contact) clear(grad_m, Vec<D>::Zero()), clear(mx, Vec<D>::Zero());
+    if (needs.hydro) clear(hydro, Vec<D>::Zero());
     if (needs.interfaces)
       for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate, &slip_weight})
         a->assign(n * static_cast<std::size_t>(slots), 0.0);

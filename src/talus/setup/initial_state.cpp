@@ -29,17 +29,24 @@ void apply_k0_stress(const Case& c, Particles<D>& P) {
   for (auto& [key, ps] : columns) {
     std::stable_sort(ps.begin(), ps.end(),
                      [&](std::size_t a, std::size_t b) { return P.x[a][D - 1] > P.x[b][D - 1]; });
-    double above = 0.0;
+    // Two overburdens: the buoyant one, whose weight the skeleton of a body below a water level
+    // carries (its effective stress; water below the level weighs nothing in it), and the whole
+    // one, which a water body's pressure holds. Without a level they are the same.
+    double above = 0.0, above_whole = 0.0;
     for (const std::size_t p : ps) {
       const int b = P.body_of(p);
-      // Below a water level the effective stress: the overburden's buoyant weight.
+      const bool fluid = std::holds_alternative<Fluid>(c.materials[c.bodies[b].material].model);
       double m = P.m[p];
+      const double m_whole = m;
       if (c.water.level && !c.bodies[b].rigid)
-        m *= 1.0 - c.water.density / c.materials[c.bodies[b].material].density() *
+        m *= 1.0 - c.water.density / (fluid ? c.water.density
+                                            : c.materials[c.bodies[b].material].density()) *
                        submerged_fraction(*c.water.level, P.x[p][D - 1],
                                           h / c.bodies[b].particles_per_cell);
-      const double sigma_v = -g * (above + 0.5 * m) / area;
+      const double sigma_v =
+          -g * (fluid ? above_whole + 0.5 * m_whole : above + 0.5 * m) / area;
       above += m;
+      above_whole += m_whole;
       double k0 = c.initial_state.k0;
       if (k0 < 0.0) {
         const double nu = std::visit([](const auto& m) { return m.poisson_ratio; },

@@ -22,7 +22,10 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const std::vector<double
     body.density = c.materials[spec.material].density();
     body.gimp = GimpFactors(c.grid.cell_size, 0.5 * c.grid.cell_size / spec.particles_per_cell);
     body.particle_height = c.grid.cell_size / spec.particles_per_cell;
-    if (c.water.level && !spec.rigid) body.buoyancy = c.water.density / body.density;
+    // A water body below the level is the water itself: its full weight, held by its pressure.
+    body.fluid = std::holds_alternative<Fluid>(c.materials[spec.material].model);
+    if (c.water.level && !spec.rigid && !body.fluid)
+      body.buoyancy = c.water.density / body.density;
     for (int d = 0; d < D; ++d)
       body.rigid_velocity[d] = spec.velocity[d];
     body.rigid = spec.rigid;

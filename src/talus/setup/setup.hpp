@@ -31,6 +31,7 @@ struct BodySetup {
   double mass = 0.0;                       // total: the master of a contact pair is heavier
   double density = 0.0;                    // the material's: nodal volume shares m / rho
   double buoyancy = 0.0;                   // rho_w / rho below the water level (0: dry)
+  bool fluid = false;                      // model = "fluid": a water body (never buoyed)
   double particle_height = 0.0;            // its particles' spacing (how they cross the level)
 };
 

@@ -43,6 +43,39 @@ void Simulation<D>::integrate_node_forces(double dt) {
   }
 }
 
+// A water body below a [water] level beside bodies that level buoys (their weight buoyant, their
+// stress effective): at the nodes where such a body meets the water (has mass), the water's
+// hydrostatic load there (BodyField::hydro) is held, taken off the
+// water's nodal force, for the buoyed body's buoyancy already stands for it (the load of the
+// hydrostatic water on a body below the level is its buoyancy plus the pore pressure's share of
+// its total stress, neither of which its effective stress carries). The contact then passes on
+// only what is not hydrostatic: the drag, the added mass, a wave's pressure. Reads the fields'
+// masses and the water's hydrostatic load; writes the water's nodal force.
+template <int D>
+void Simulation<D>::hold_hydrostatic_load() {
+  for (int w = 0; w < num_bodies(); ++w) {
+    BodyField<D>& W = fields_[w];
+    if (!W.needs.hydro) continue;
+    const std::int64_t n = static_cast<std::int64_t>(W.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) {
+      if (W.m[i] <= 0.0 || W.hydro[i].isZero()) continue;
+      Index<D> g = W.box.node_coords(i);
+      for (int d = 0; d < D; ++d)
+        g[d] += W.offset[d];
+      for (int b = 0; b < num_bodies(); ++b) {
+        if (!(setup_.bodies[b].buoyancy > 0.0)) continue;
+        const BodyField<D>& K = fields_[b];
+        const std::int64_t j = K.local(g);
+        if (j >= 0 && K.m[j] > 0.0) {
+          W.f[i] -= W.hydro[i];
+          break;
+        }
+      }
+    }
+  }
+}
+
 // Reads the setup's conditions; writes the field array `velocity` of every body at the nodes
 // the conditions cover, then a rigid body's whole field to its prescribed velocity.
 template <int D>
@@ -58,6 +91,7 @@ void Simulation<D>::apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::
 #define TALUS_INSTANTIATE(D)                                                                       \
   template void Simulation<D>::compute_node_velocities();                                          \
   template void Simulation<D>::integrate_node_forces(double);                                      \
+  template void Simulation<D>::hold_hydrostatic_load();                                            \
   template void Simulation<D>::apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*);
 TALUS_INSTANTIATE(2)
 TALUS_INSTANTIATE(3)

@@ -84,6 +84,7 @@ void Simulation<D>::scatter_particles() {
       map.template operator()<true>();
     else
       map.template operator()<false>();
+    if (with_forces && N.needs.hydro) scatter_hydrostatic_load(N, sw, p);
     if (P.iface[p] >= 0 && f == b) { // eq. 37 (an orphan is not on its interface any more): the
                                      // interface particle's friction and area at its nodes (its
                                      // capacities: share_interface_loads)
@@ -207,6 +208,23 @@ void Simulation<D>::map_forces_to_nodes() {
     for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
       N.f[I] += N_I * mg - Vsigma * dN_I;
     });
+    if (N.needs.hydro) scatter_hydrostatic_load(N, sw, p);
+  });
+}
+
+// A water particle below the level: its weight and the hydrostatic pressure's force on its
+// nodes, N_I m g + V u grad N_I with u = rho_w |g| (level - z) (the force of the stress -u I).
+template <int D>
+void Simulation<D>::scatter_hydrostatic_load(BodyField<D>& N, const ShapeWeights<D>& sw,
+                                             std::uint32_t p) {
+  const auto& P = particles_;
+  const WaterSetup<D>& w = setup_.water;
+  const double depth = w.level - w.up.dot(P.x[p]);
+  if (depth <= 0.0) return;
+  const Vec<D> mg = P.m[p] * setup_.gravity;
+  const double Vu = P.vol[p] * w.density * w.g * depth;
+  for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
+    N.hydro[I] += N_I * mg + Vu * dN_I;
   });
 }
 
@@ -223,6 +241,8 @@ void Simulation<D>::map_forces_to_nodes() {
   template void Simulation<D>::map_particles_to_nodes(bool);                                       \
   template bool Simulation<D>::reaches_other_body(int, const ShapeWeights<D>&, int) const;         \
   template void Simulation<D>::map_forces_to_nodes();                                              \
+  template void Simulation<D>::scatter_hydrostatic_load(BodyField<D>&, const ShapeWeights<D>&,     \
+                                                        std::uint32_t);                            \
   template void Simulation<D>::share_interface_loads();                                            \
   template int Simulation<D>::interface_slave(int) const;
 TALUS_INSTANTIATE(2)

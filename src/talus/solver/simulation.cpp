@@ -40,6 +40,13 @@ Simulation<D>::Simulation(const Case& c, Seeded<D> seeded) : case_data_(c) {
     N.needs.pressure = setup_.pore_pressure;
     N.needs.heating = setup_.heating;
   }
+  // A water body below a [water] level beside bodies that level buoys (docs/formulation.md,
+  // "A water body below a level").
+  bool buoyed = false;
+  for (const BodySetup<D>& body : setup_.bodies)
+    buoyed = buoyed || body.buoyancy > 0.0;
+  for (int b = 0; b < B; ++b)
+    fields_[b].needs.hydro = buoyed && setup_.bodies[b].fluid && setup_.water.on;
   // Each interface particle of an interface with pore pressure gets its state, zero rises, in
   // id order over the whole case (a process's particles take their offsets in that pool).
   for (const auto& [id, f] : seeded.pore_particles) {
@@ -87,12 +94,14 @@ void Simulation<D>::step(double dt_limit) {
   const Scheme scheme = setup_.scheme;
   timed(T.other), begin_step(dt_limit);                        // dt, sort, bins, boxes
   timed(T.p2g), map_particles_to_nodes(scheme != Scheme::usf); // eq. 14-18, 30
-  timed(T.contact), share_interface_loads();                   // eq. 37, pore pressure
+  if (scheme != Scheme::usf) timed(T.grid), hold_hydrostatic_load();
+  timed(T.contact), share_interface_loads(); // eq. 37, pore pressure
   timed(T.grid), compute_node_velocities(), apply_velocity_conditions(&F::v); // eq. 19
   if (scheme == Scheme::usf) { // stress first, from the velocity of the mapped momentum
     timed(T.contact), apply_contact(&F::v, dt_, false), apply_velocity_conditions(&F::v);
     timed(T.stress), update_stress(&F::v, dt_); // eq. 24-28
     timed(T.p2g), map_forces_to_nodes();        // eq. 17-18
+    timed(T.grid), hold_hydrostatic_load();
     timed(T.grid), compute_node_velocities(), apply_velocity_conditions(&F::v);
   }
   timed(T.grid), integrate_node_forces(dt_), apply_velocity_conditions(&F::v_new); // eq. 20

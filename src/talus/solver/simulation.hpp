@@ -160,6 +160,7 @@ public:
   void fit_body_fields();
   void map_particles_to_nodes(bool with_forces);
   void map_forces_to_nodes();
+  void scatter_hydrostatic_load(BodyField<D>& N, const ShapeWeights<D>& sw, std::uint32_t p);
   void compute_node_velocities();
   // The interfaces' cohesive and tensile capacities and excess pore pressure's force, shared over
   // the nodes where each pair meets: the bond and the push (effective stress) of the contact pass.
@@ -168,6 +169,7 @@ public:
   // one against a rigid body, else the lighter (ties: the earlier).
   int interface_slave(int f) const;
   void integrate_node_forces(double dt);
+  void hold_hydrostatic_load();
   void apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*velocity);
   // Contact on one velocity array of every body field (v, v_new or v_remap); `record` keeps its
   // forces, work, contact nodes and the interfaces' slip rates.
