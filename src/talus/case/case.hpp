@@ -37,7 +37,7 @@ struct SimulationSettings {
 
 // What a face of the domain does to the grid velocity: nothing, stop it, stop its normal
 // component (a roller), or a Coulomb wall (no penetration, tangential friction).
-enum class FaceCondition { free, fixed, slip, friction };
+enum class FaceCondition { free, fixed, slip, friction, outflow };
 
 struct GridSettings {
   Vec3a origin{0.0, 0.0, 0.0};

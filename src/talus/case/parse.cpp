@@ -90,10 +90,11 @@ GridSettings read_grid(TableReader& r, int dim) {
         w.finish();
         continue;
       }
-      const std::string c = b.choice(names[f], {"free", "fixed", "slip"}, "free");
-      g.faces[f] = c == "fixed"  ? FaceCondition::fixed
-                   : c == "slip" ? FaceCondition::slip
-                                 : FaceCondition::free;
+      const std::string c = b.choice(names[f], {"free", "fixed", "slip", "outflow"}, "free");
+      g.faces[f] = c == "fixed"     ? FaceCondition::fixed
+                   : c == "slip"    ? FaceCondition::slip
+                   : c == "outflow" ? FaceCondition::outflow
+                                    : FaceCondition::free;
     }
     b.finish();
   }

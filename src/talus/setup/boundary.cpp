@@ -15,6 +15,10 @@ GridConditions<D> build_grid_conditions(const Case& c, const Grid<D>& grid) {
     for (int side = 0; side < 2; ++side) {
       const FaceCondition fc = c.grid.faces[2 * d + side];
       if (fc == FaceCondition::free) continue;
+      if (fc == FaceCondition::outflow) { // free for the nodes; fluid particles leave through it
+        gc.outflow[2 * d + side] = true;
+        continue;
+      }
       gc.closed[2 * d + side] = true;
       NodeRange<D> face = all;
       face.lo[d] = side == 0 ? 0 : grid.nodes[d] - 1;

@@ -44,6 +44,8 @@ struct GridConditions {
   // Which domain faces are walls (fixed, slip or friction; index 2 d + side): impenetrable to
   // particles as well as to the nodes' velocity.
   std::array<bool, 2 * D> closed{};
+  // Which domain faces let a fluid body's particles out of the run (outflow): free for the nodes.
+  std::array<bool, 2 * D> outflow{};
 };
 
 template <int D>

@@ -44,14 +44,29 @@ move_particle(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const Bo
 // normal part, which the wall's nodes do not see) goes back onto it and loses its outward
 // velocity; past a free face it has left the grid. A rigid body's particles follow its
 // prescribed motion: one driven through a wall has left the grid too.
+// A fluid particle past an outflow face has left the run: it keeps its place on the face and
+// its volume, but no mass, speed or stress (it scatters nothing from then on; the body's mass in
+// bodies.csv falls by what left).
 template <int D>
 bool put_back_on_walls(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const Vec<D>& lo,
-                       const Vec<D>& hi, const std::array<bool, 2 * D>& closed) {
+                       const Vec<D>& hi, const GridConditions<D>& faces) {
   if (body.rigid) return false;
+  bool out = false;
   for (int d = 0; d < D; ++d) {
-    if (P.x[p][d] < lo[d] && closed[2 * d]) P.x[p][d] = lo[d], P.v[p][d] = std::max(P.v[p][d], 0.0);
-    if (P.x[p][d] > hi[d] && closed[2 * d + 1])
+    const bool below = P.x[p][d] < lo[d], above = P.x[p][d] > hi[d];
+    out = out || (below && faces.outflow[2 * d]) || (above && faces.outflow[2 * d + 1]);
+    if (below && (faces.closed[2 * d] || faces.outflow[2 * d]))
+      P.x[p][d] = lo[d], P.v[p][d] = std::max(P.v[p][d], 0.0);
+    if (above && (faces.closed[2 * d + 1] || faces.outflow[2 * d + 1]))
       P.x[p][d] = hi[d], P.v[p][d] = std::min(P.v[p][d], 0.0);
+  }
+  if (out) {
+    if (!body.fluid) return false; // only water flows out; a solid past the face left the grid
+    P.m[p] = 0.0;
+    P.v[p].setZero();
+    P.vol[p] = P.vol0[p];
+    P.F[p].setIdentity();
+    P.stress[p].setZero();
   }
   return detail::motion_ok(P, static_cast<std::int64_t>(p), lo, hi);
 }
@@ -68,7 +83,7 @@ void Simulation<D>::update_particles(double dt) {
   const double flip = setup_.flip;
   std::atomic<std::size_t> gone{StepCheck::no_particle};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
-  const std::array<bool, 2 * D>& closed = setup_.conditions.closed;
+  const GridConditions<D>& faces = setup_.conditions;
   for (int b = 0; b < num_bodies(); ++b) {
     if (field_held_[b]) continue;
     shape_.require(steps_, particles_.size());
@@ -76,8 +91,9 @@ void Simulation<D>::update_particles(double dt) {
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = begin; p < end; ++p) {
+      if (body.fluid && P.m[p] == 0.0) continue; // gone through an outflow face: stays there
       move_particle(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
-      if (!detail::motion_ok(P, p, lo, hi) && !put_back_on_walls(P, p, body, lo, hi, closed))
+      if (!detail::motion_ok(P, p, lo, hi) && !put_back_on_walls(P, p, body, lo, hi, faces))
         detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
     }
   }
@@ -97,13 +113,14 @@ void Simulation<D>::update_particles_and_remap(double dt) {
     std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
   std::atomic<std::size_t> gone{StepCheck::no_particle};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
-  const std::array<bool, 2 * D>& closed = setup_.conditions.closed;
+  const GridConditions<D>& faces = setup_.conditions;
   scatter([&](std::uint32_t p, int b) {
     BodyField<D>& N = fields_[P.field[p]];
     const ShapeWeights<D>& sw = shape_.weights[p];
+    if (setup_.bodies[b].fluid && P.m[p] == 0.0) return; // gone through an outflow face
     move_particle(P, p, setup_.bodies[b], N, sw, flip, dt);
     if (!detail::motion_ok(P, p, lo, hi) &&
-        !put_back_on_walls(P, p, setup_.bodies[b], lo, hi, closed))
+        !put_back_on_walls(P, p, setup_.bodies[b], lo, hi, faces))
       detail::record_bad(gone, p, exchange_);
     const Vec<D> mv_p = P.m[p] * P.v[p];
     for_each_node(N.box, sw,

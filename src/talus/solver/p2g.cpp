@@ -220,7 +220,7 @@ void Simulation<D>::scatter_hydrostatic_load(BodyField<D>& N, const ShapeWeights
   const auto& P = particles_;
   const WaterSetup<D>& w = setup_.water;
   const double depth = w.level - w.up.dot(P.x[p]);
-  if (depth <= 0.0) return;
+  if (depth <= 0.0 || P.m[p] == 0.0) return; // above the level, or gone through an outflow
   const Vec<D> mg = P.m[p] * setup_.gravity;
   const double Vu = P.vol[p] * w.density * w.g * depth;
   for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {

@@ -64,6 +64,8 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
     double work = 0.0;
     for (std::int64_t p = begin + c * work_sums_.chunk;
          p < std::min(end, begin + (c + 1) * work_sums_.chunk); ++p) {
+      if constexpr (fluid)
+        if (P.m[p] == 0.0) continue; // gone through an outflow face: no stress, no work
       const ShapeWeights<D>& sw = shape_.weights[p];
       const BodyField<D>& N = fields_[P.field[p]];
       const Vec<D>* rate = (N.*velocity).data();

@@ -12,7 +12,7 @@ namespace talus {
 template <int D>
 double Simulation<D>::wave_speed(std::int64_t p, double modulus) const {
   const auto& P = particles_;
-  return std::sqrt(modulus * P.vol[p] / P.m[p]);
+  return P.m[p] > 0.0 ? std::sqrt(modulus * P.vol[p] / P.m[p]) : 0.0; // 0: left by an outflow
 }
 
 // Reads the particles' volume, mass and velocity: dt = cfl h / max(c_p + |v_p|), capped at
