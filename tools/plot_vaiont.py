@@ -9,7 +9,9 @@
                         against the weight of the particles above
   vaiont.json           the deposit's figures of the last frame: the front's run-up height on the
                         north slope, how far north the slide reached, and the final ground
-                        surface against the pre-slide line (printed too)
+                        surface against the pre-slide line (printed too); with the reservoir as a
+                        body (--lake), the wave's figures too (below)
+  lake.png              with the reservoir as a body: the valley at six times, the water apart
 
 Usage: plot_vaiont.py RUN_DIR [--section cases/vaiont/section.csv] [--out DIR]
 """
@@ -33,6 +35,7 @@ ap.add_argument("--times", type=float, nargs="+", default=[10.0, 17.5, 22.5, 33.
 ap.add_argument("--body", default="slide", help="the body of the speed and stress plots")
 ap.add_argument("--slide", default="slide,upper,middle,toe",
                 help="the bodies that make up the slide (those present are used)")
+ap.add_argument("--lake", default="lake", help="the reservoir's body, if the run has it")
 ap.add_argument("--spacing", type=float, default=4.0,
                 help="particle spacing (m) if the frames carry no volume field")
 a = ap.parse_args()
@@ -149,6 +152,65 @@ figures = {
     "valley_floor_fill_m": float(ys[(xs >= ground[ground[:, 1] == floor, 0].min()) &
                                     (xs <= foot)].max() - floor),
 }
+# The reservoir as a body: the wave's figures over every frame. The water's run-up is the highest
+# point of the north slope (north of its foot) that the lake's water reached, above the lake's
+# level; the water that left the section is the lake's lost mass over its density (outflow face);
+# the wave over the valley's middle is the highest reading of the gauge there above the level;
+# the share of the slide's energy is the lake's peak kinetic energy over the slide's.
+if a.lake in body_names:
+    import tomllib
+    case = tomllib.loads((run / "case_as_run.toml").read_text())
+    level = case.get("water", {}).get("level", 0.0)
+    lake = body_names.index(a.lake)
+    best = (-np.inf, None)
+    for t, f in frames:
+        m = meshio.read(run / f)
+        w = m.points[m.point_data["body"].ravel().astype(int) == lake, :2]
+        north = w[w[:, 0] > foot]
+        if len(north) and north[:, 1].max() > best[0]:
+            best = (float(north[:, 1].max()), t)
+    w0 = m0.point_data["body"].ravel().astype(int) == lake
+    rho_w = float(m0.point_data["mass"].ravel()[w0].sum() / m0.point_data["volume"].ravel()[w0].sum())
+    rows = list(csv.DictReader(open(run / "bodies.csv")))
+    lake_mass = [float(r["mass"]) for r in rows if r["body"] == a.lake]
+    ke = {n: max(float(r["kinetic_energy"]) for r in rows if r["body"] == n)
+          for n in (a.lake, a.body)}
+    gauge = [(float(r["elevation"]), float(r["time"]))
+             for r in csv.DictReader(open(run / "waves.csv"))
+             if r["gauge"] == "valley_middle" and r["elevation"]] if (run / "waves.csv").exists() \
+        else []
+    figures.update({
+        "lake_level_m": level,
+        "lake_run_up_m": best[0] - level, "lake_run_up_time_s": best[1],
+        "lake_left_section_m2": (lake_mass[0] - lake_mass[-1]) / rho_w,
+        "lake_area_m2": lake_mass[0] / rho_w,
+        # The water's surface over the valley's middle, the slide under it or not.
+        "wave_over_valley_middle_m": (max(gauge)[0] - level) if gauge else None,
+        "wave_over_valley_middle_time_s": max(gauge)[1] if gauge else None,
+        "lake_share_of_slide_kinetic_energy": ke[a.lake] / ke[a.body],
+    })
+    times = [6.0, 10.0, 14.0, 18.0, 26.0, frames[-1][0]]
+    fig, axes = plt.subplots(2, 3, figsize=(14, 6.4))
+    for ax, t in zip(axes.ravel(), times):
+        tf, m = frame(t)
+        x = m.points[:, :2]
+        body = m.point_data["body"].ravel().astype(int)
+        # The water blue, the slide grey, the bedrock tan, the old deposit brown.
+        shade = {a.lake: "#1f77b4", "bedrock": "#d9c9a3", "deposit": "#8c564b"}
+        palette = np.array([shade.get(n, "#9e9e9e") for n in body_names])
+        ax.scatter(x[:, 0], x[:, 1], s=0.4, linewidths=0, c=palette[body])
+        ax.plot(ground[:, 0], ground[:, 1], "k--", lw=0.6)
+        ax.axhline(level, color="#1f77b4", lw=0.5, ls=":")
+        ax.set_xlim(800, ground[:, 0].max() + 40)
+        ax.set_ylim(-60, 420)
+        ax.set_aspect("equal")
+        ax.set_title(f"t = {tf:.1f} s", fontsize=9)
+    fig.suptitle(f"The reservoir as a body (blue): water run-up {figures['lake_run_up_m']:.0f} m "
+                 f"above the lake, {figures['lake_left_section_m2']:.0f} m^2 over the section's "
+                 "end", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out / "lake.png", dpi=110)
+    plt.close(fig)
 (out / "vaiont.json").write_text(__import__("json").dumps(figures, indent=2) + "\n")
 print("vaiont.json:", figures)
 fig, ax = plt.subplots(figsize=(9, 4))
@@ -169,6 +231,8 @@ plt.close(fig)
 # Vertical stress at release down a vertical line through the slide's centroid (if the frames
 # carry the stress).
 written = ["frames.png", "probe_speed.png", "speed_displacement.png", "profile.png", "vaiont.json"]
+if a.lake in body_names:
+    written.append("lake.png")
 if "stress" in m0.point_data:
     x = m0.points[:, :2]
     body = m0.point_data["body"].ravel().astype(int)

@@ -192,6 +192,14 @@ inline const std::vector<GoldenCase>& golden_cases() {
        50,
        200,
        0xb8f67b754ccb18cdull},
+      // The same with the lake as a water body below the level: the water's hydrostatic load
+      // held where it meets the buoyed rock, an outflow face.
+      {"vaiont_reservoir",
+       "cases/vaiont/three_bodies_reservoir.toml",
+       {"grid.cell_size=16", "interface.0.friction.slip=0.02", "interface.0.cohesion.slip=0.02"},
+       50,
+       200,
+       0xe26477e25d120f63ull},
       // Five bodies: where orphans appear.
       {"vaiont_five",
        "cases/vaiont/five_bodies.toml",
