@@ -86,11 +86,9 @@ int run_sweep(const SweepOptions& opt) {
       opt.out_dir.empty()
           ? "runs/" + std::filesystem::path(opt.case_file).stem().string() + "_sweep"
           : opt.out_dir;
-  std::vector<std::string> args = {"/usr/bin/python3", opt.source_dir + "/tools/sweep.py",
-                                   "--talus",          opt.self,
-                                   "--out",            out,
-                                   "--threads",        std::to_string(opt.threads),
-                                   "--plan",           plan.dump()};
+  std::vector<std::string> args = {
+      "/usr/bin/python3", opt.source_dir + "/tools/sweep.py", "--talus", opt.self,   "--out", out,
+      "--threads",        std::to_string(opt.threads),        "--plan",  plan.dump()};
   if (opt.jobs > 0) args.insert(args.end(), {"--jobs", std::to_string(opt.jobs)});
   if (!opt.launcher.empty()) args.insert(args.end(), {"--launcher", opt.launcher});
   std::vector<char*> argv;

@@ -294,15 +294,15 @@ box = {{ min = [0.0, 0.0], max = [{3}, {4}] }}
 // block's top would press it down by rho_w g d A more (1 to 6 times the buoyant weight here).
 // Under PIC: under FLIP 0.99 the water's particles creep into the block's (docs/formulation.md,
 // the floating body) and the load grows, +1.3 % after 1 s and +4 % after 2 s at 0.3 m, 1500.
+// A 2D case's [simulation] table: 1 s under MUSL with the given FLIP share.
+std::string simulation_2d(double flip) {
+  return fmt::format("[simulation]\ndimension = 2\nend_time = 1.0\ncfl = 0.4\n"
+                     "gravity = [0.0, -9.81]\nscheme = \"musl\"\nflip = {}\n",
+                     flip);
+}
+
 std::string block_in_tank(double rho_s, double depth) {
-  return fmt::format(R"(
-[simulation]
-dimension = 2
-end_time = 1.0
-cfl = 0.4
-gravity = [0.0, -9.81]
-scheme = "musl"
-flip = 0.0
+  return simulation_2d(0.0) + fmt::format(R"(
 [grid]
 extent = [1.0, {2}]
 cell_size = 0.025
@@ -346,7 +346,7 @@ friction = 0.5
 [[contact]]
 friction = 0.0
 )",
-                     rho_s, 0.2 + depth, 0.2 + depth + 0.2);
+                                          rho_s, 0.2 + depth, 0.2 + depth + 0.2);
 }
 
 TEST(Fluid, ASubmergedBlockOnTheFloorCarriesItsBuoyantWeight) {
@@ -377,14 +377,7 @@ TEST(Fluid, ASubmergedBlockOnTheFloorCarriesItsBuoyantWeight) {
 // with a free face; through a free face the first particle stops the run, and a solid body
 // through an outflow face has left the grid.
 std::string column_to_the_edge(const char* face, const char* model, double x0 = 0.0) {
-  return fmt::format(R"(
-[simulation]
-dimension = 2
-end_time = 1.0
-cfl = 0.4
-gravity = [0.0, -9.81]
-scheme = "musl"
-flip = 0.99
+  return simulation_2d(0.99) + fmt::format(R"(
 [grid]
 extent = [0.6, 0.5]
 cell_size = 0.025
@@ -402,7 +395,7 @@ name = "water"
 material = "water"
 box = {{ min = [{2}, 0.0], max = [{3}, 0.4] }}
 )",
-                     face, model, x0, x0 + 0.2);
+                                           face, model, x0, x0 + 0.2);
 }
 
 TEST(Fluid, WaterLeavesThroughAnOutflowFace) {
@@ -443,9 +436,9 @@ TEST(Fluid, WaterLeavesThroughAnOutflowFace) {
   EXPECT_GT(gone, P.size() / 10); // the column pours out over the edge
   EXPECT_NEAR(m0 - m, static_cast<double>(gone) * m0 / static_cast<double>(P.size()), 1e-9 * m0);
   // A solid through an outflow face has left the grid.
-  Simulation<2> solid(
-      test::case_from(column_to_the_edge("\"outflow\"", "youngs_modulus = 1.0e6\npoisson_ratio = 0.3", 0.3),
-                      {"simulation.gravity=[20.0, -9.81]"}));
+  Simulation<2> solid(test::case_from(
+      column_to_the_edge("\"outflow\"", "youngs_modulus = 1.0e6\npoisson_ratio = 0.3", 0.3),
+      {"simulation.gravity=[20.0, -9.81]"}));
   EXPECT_THROW(
       {
         while (solid.time() < 1.0 - 1e-12)

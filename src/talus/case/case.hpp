@@ -283,8 +283,8 @@ struct SweepSettings {
 // [observed]: what was seen, for a sweep's back-analysis (each run scored against it).
 struct ObservedSettings {
   bool present = false;
-  std::string impact_area;       // polygons (GeoJSON or anything GDAL reads) in the maps' system
-  std::string deposit_thickness; // a raster on the maps' grid (m)
+  std::string impact_area;        // polygons (GeoJSON or anything GDAL reads) in the maps' system
+  std::string deposit_thickness;  // a raster on the maps' grid (m)
   double deposit_threshold = 0.1; // m: thicker counts as deposit
   // summary.json `results` figures: key path ("maps.runout_length_m") -> [lo, hi] (lo = hi for a
   // single value).

@@ -3,9 +3,9 @@
 #include "talus/case/terrain.hpp"
 
 #include <cmath>
+#include <fmt/format.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <fmt/format.h>
 #include <sstream>
 
 namespace talus::case_reading {
@@ -100,7 +100,7 @@ void check_outline(const std::string& path) {
       if (f.is_object() && f.contains("geometry")) geometries.push_back(f["geometry"]);
   } else {
     geometries.push_back(j.value("type", "") == "Feature" && j.contains("geometry") ? j["geometry"]
-                                                                                  : j);
+                                                                                    : j);
   }
   for (const auto& g : geometries)
     if (g.is_object() && g.contains("coordinates") &&
@@ -151,7 +151,8 @@ void read_sweep(TableReader& root, Case& c) {
   }
   if (const toml::table* e = rs.table("exceed")) {
     TableReader re(*e, "sweep.exceed", rs.where());
-    for (const char* field : {"peak_thickness", "peak_speed", "peak_kinetic_energy", "peak_pressure"}) {
+    for (const char* field :
+         {"peak_thickness", "peak_speed", "peak_kinetic_energy", "peak_pressure"}) {
       const toml::array* a = re.array(field);
       if (!a) continue;
       std::vector<double> thresholds;

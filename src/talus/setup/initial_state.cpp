@@ -39,12 +39,11 @@ void apply_k0_stress(const Case& c, Particles<D>& P) {
       double m = P.m[p];
       const double m_whole = m;
       if (c.water.level && !c.bodies[b].rigid)
-        m *= 1.0 - c.water.density / (fluid ? c.water.density
-                                            : c.materials[c.bodies[b].material].density()) *
+        m *= 1.0 - c.water.density /
+                       (fluid ? c.water.density : c.materials[c.bodies[b].material].density()) *
                        submerged_fraction(*c.water.level, P.x[p][D - 1],
                                           h / c.bodies[b].particles_per_cell);
-      const double sigma_v =
-          -g * (fluid ? above_whole + 0.5 * m_whole : above + 0.5 * m) / area;
+      const double sigma_v = -g * (fluid ? above_whole + 0.5 * m_whole : above + 0.5 * m) / area;
       above += m;
       above_whole += m_whole;
       double k0 = c.initial_state.k0;

@@ -24,8 +24,7 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const std::vector<double
     body.particle_height = c.grid.cell_size / spec.particles_per_cell;
     // A water body below the level is the water itself: its full weight, held by its pressure.
     body.fluid = std::holds_alternative<Fluid>(c.materials[spec.material].model);
-    if (c.water.level && !spec.rigid && !body.fluid)
-      body.buoyancy = c.water.density / body.density;
+    if (c.water.level && !spec.rigid && !body.fluid) body.buoyancy = c.water.density / body.density;
     for (int d = 0; d < D; ++d)
       body.rigid_velocity[d] = spec.velocity[d];
     body.rigid = spec.rigid;

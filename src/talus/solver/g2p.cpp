@@ -53,7 +53,7 @@ bool put_back_on_walls(Particles<D>& P, std::size_t p, const BodySetup<D>& body,
   if (body.rigid) return false;
   bool out = false;
   for (int d = 0; d < D; ++d) {
-    const bool below = P.x[p][d] < lo[d], above = P.x[p][d] > hi[d];
+    const bool below = P.x[p][d]<lo[d], above = P.x[p][d]> hi[d];
     out = out || (below && faces.outflow[2 * d]) || (above && faces.outflow[2 * d + 1]);
     if (below && (faces.closed[2 * d] || faces.outflow[2 * d]))
       P.x[p][d] = lo[d], P.v[p][d] = std::max(P.v[p][d], 0.0);
