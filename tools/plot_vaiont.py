@@ -108,7 +108,10 @@ plt.close(fig)
 
 
 def surface(m, width):
+    """The top of the ground (every body but the lake's water) in bins of `width` along x."""
     x = m.points[:, :2]
+    if a.lake in body_names:
+        x = x[m.point_data["body"].ravel().astype(int) != body_names.index(a.lake)]
     bins = np.floor(x[:, 0] / width).astype(int)
     top = {}
     for b, y in zip(bins, x[:, 1]):
