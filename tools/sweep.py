@@ -52,6 +52,15 @@ MAP_FIELDS = {"peak_thickness": "m", "peak_speed": "m/s", "peak_kinetic_energy":
               "peak_pressure": "Pa"}
 
 
+def say(*args):
+    """Prints a line of the sweep's log; a closed stdout (talus sweep | head) loses the log, not
+    the sweep."""
+    try:
+        print(*args, flush=True)
+    except (BrokenPipeError, OSError):
+        pass
+
+
 def fail(msg, code=2):
     print(f"error: sweep: {msg}", file=sys.stderr)
     sys.exit(code)
@@ -147,6 +156,14 @@ def die_with_parent():
         pass
 
 
+def child_environment():
+    """This environment less what MPI set for this process (the mpi build's talus starts as a
+    singleton): a run under a launcher (mpirun) must start its own job, not join this one."""
+    keep = ("OMPI_ALLOW_RUN_AS_ROOT", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM")
+    return {k: v for k, v in os.environ.items()
+            if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PRTE_")) or k.startswith(keep)}
+
+
 def wait_for_run_folder(run, seconds=120.0):
     """Waits while a run of an earlier, killed sweep still holds the folder (it is writing its
     checkpoint after the SIGTERM the sweep's death sent it): talus locks its marker while it runs."""
@@ -199,7 +216,7 @@ class Runner:
         log.write(f"$ {' '.join(self.command(i, fresh))}\n")
         log.flush()
         child = subprocess.Popen(self.command(i, fresh), stdout=log, stderr=subprocess.STDOUT,
-                                 preexec_fn=die_with_parent)
+                                 preexec_fn=die_with_parent, env=child_environment())
         self.children[child.pid] = (child, i, fresh, log)
 
     def stop(self, sig, _frame):
@@ -227,7 +244,7 @@ class Runner:
             child.returncode = os.waitstatus_to_exitcode(wait_status)  # reaped here, not by Popen
             log.close()
             st = status(self.folder / self.names[i])
-            print(f"{self.names[i]}: {st} ({child.returncode})", flush=True)
+            say(f"{self.names[i]}: {st} ({child.returncode})")
             # A restart that could not continue (no usable checkpoint) starts the run again.
             if st not in ("completed", "failed") and not fresh and not self.stopping:
                 self.fresh.add(i)
@@ -465,11 +482,11 @@ def main():
 
     done = [i for i, n in enumerate(names) if status(folder / n) in ("completed", "failed")]
     todo = [i for i in range(len(names)) if i not in done]
-    print(f"sweep: {len(names)} runs ({len(done)} done), {a.jobs} at a time, {a.threads} "
-          f"thread{'s' if a.threads > 1 else ''} each, in {folder}", flush=True)
+    say(f"sweep: {len(names)} runs ({len(done)} done), {a.jobs} at a time, {a.threads} "
+          f"thread{'s' if a.threads > 1 else ''} each, in {folder}")
     t0 = time.time()
     Runner(a, plan, folder, names, values).run_all(todo)
-    print(f"sweep: runs done in {time.time() - t0:.0f} s", flush=True)
+    say(f"sweep: runs done in {time.time() - t0:.0f} s")
 
     # The table (and the ranking), from every run's summary.json.
     summaries = [summary(folder / n) or {} for n in names]
@@ -494,10 +511,10 @@ def main():
         return "\n".join(lines) + "\n"
 
     write_atomic(folder / "table.csv", table(rows))
-    print(f"wrote {folder / 'table.csv'}")
+    say(f"wrote {folder / 'table.csv'}")
     written = probability_maps(folder, names, completed, plan) if plan["maps"] else []
     for w in written:
-        print(f"wrote {w}")
+        say(f"wrote {w}")
     if "observed" in plan:
         o = plan["observed"]
         by = ("csi" if "impact_area" in o else "deposit_csi" if "deposit_thickness" in o
@@ -508,14 +525,14 @@ def main():
         for k, r in enumerate(ranked):
             r["_extra"] = [k + 1]
         write_atomic(folder / "ranking.csv", table(ranked, extra=["rank"]))
-        print(f"wrote {folder / 'ranking.csv'} (by {by})")
+        say(f"wrote {folder / 'ranking.csv'} (by {by})")
         keys = [p["key"] for p in plan["parameters"]]
         for r in ranked[:5]:
-            print(f"  {r['_extra'][0]:>3}  {r['run']}  {by} {fmt(r[by])}  " +
+            say(f"  {r['_extra'][0]:>3}  {r['run']}  {by} {fmt(r[by])}  " +
                   "  ".join(f"{k}={r[k]}" for k in keys))
     failed = [n for n, s in zip(names, summaries) if s.get("status") != "completed"]
     if failed:
-        print(f"sweep: {len(failed)} run(s) not completed: {', '.join(failed[:10])} (their logs: "
+        say(f"sweep: {len(failed)} run(s) not completed: {', '.join(failed[:10])} (their logs: "
               f"{folder / 'logs'})")
     if written and plan["dimension"] == 3:
         subprocess.run([sys.executable, str(Path(__file__).with_name("plot_maps.py")),
