@@ -17,6 +17,7 @@ Usage: plot_vaiont.py RUN_DIR [--section cases/vaiont/section.csv] [--out DIR]
 """
 import argparse
 import csv
+import json
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -157,7 +158,7 @@ figures = {
 }
 # The reservoir as a body: the wave's figures over every frame. The water's run-up is the highest
 # point of the north slope (north of its foot) that the lake's water reached, above the lake's
-# level; the water that left the section is the lake's lost mass over its density (outflow face);
+# level (the case's [[run_up]] probe on the lake when it has one); the water that left the section is the lake's lost mass over its density (outflow face);
 # the wave over the valley's middle is the highest reading of the gauge there above the level;
 # the share of the slide's energy is the lake's peak kinetic energy over the slide's.
 if a.lake in body_names:
@@ -165,13 +166,20 @@ if a.lake in body_names:
     case = tomllib.loads((run / "case_as_run.toml").read_text())
     level = case.get("water", {}).get("level", 0.0)
     lake = body_names.index(a.lake)
+    # The run's own run-up probe on the lake (summary.json, checked every step) if it has one;
+    # else the highest water particle north of the slope's foot in the frames.
+    probes = json.loads((run / "summary.json").read_text())["results"].get("run_up", {})
+    probe = next((p for p in probes.values() if p["body"] == a.lake and p["elevation_m"]), None)
     best = (-np.inf, None)
-    for t, f in frames:
-        m = meshio.read(run / f)
-        w = m.points[m.point_data["body"].ravel().astype(int) == lake, :2]
-        north = w[w[:, 0] > foot]
-        if len(north) and north[:, 1].max() > best[0]:
-            best = (float(north[:, 1].max()), t)
+    if probe:
+        best = (probe["elevation_m"], probe["time_s"])
+    else:
+        for t, f in frames:
+            m = meshio.read(run / f)
+            w = m.points[m.point_data["body"].ravel().astype(int) == lake, :2]
+            north = w[w[:, 0] > foot]
+            if len(north) and north[:, 1].max() > best[0]:
+                best = (float(north[:, 1].max()), t)
     w0 = m0.point_data["body"].ravel().astype(int) == lake
     rho_w = float(m0.point_data["mass"].ravel()[w0].sum() / m0.point_data["volume"].ravel()[w0].sum())
     rows = list(csv.DictReader(open(run / "bodies.csv")))

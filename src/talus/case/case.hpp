@@ -155,6 +155,16 @@ struct GaugeSpec {
   std::array<double, 2> at{};
 };
 
+// A run-up probe ([[run_up]]): the highest point a body's particles reach over a region of the plan
+// (an x range in 2D, an x-y box in 3D) from release on, as a slope's wetted line or trimline is
+// read (summary.json, `run_up`). `level`: the elevation it is counted from.
+struct RunUpSpec {
+  std::string name;
+  int body = 0;
+  std::array<double, 2> min{}, max{};
+  double level = 0.0;
+};
+
 // Checkpoints for restart (output/checkpoint.hpp): every `every` simulated seconds and every
 // `wall_minutes` of wall time (the first after at most first_wall_minutes; 0 turns either off),
 // keeping the newest `keep`.
@@ -310,6 +320,7 @@ struct Case {
   ResultsSpec results;
   std::vector<ProbeSpec> probes;
   std::vector<GaugeSpec> gauges;
+  std::vector<RunUpSpec> run_ups;
   OutputSettings output;
   CheckpointSettings checkpoint;
   MapsSettings maps;

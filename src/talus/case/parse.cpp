@@ -481,6 +481,7 @@ Case parse_case_text(const std::string& text, const std::string& path,
   read_results(root, c);
   read_probes(root, c);
   read_gauges(root, c);
+  read_run_ups(root, c);
   read_output(root, c);
   read_checkpoint(root, c);
   read_maps(root, c);

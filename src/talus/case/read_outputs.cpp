@@ -59,6 +59,37 @@ void read_gauges(TableReader& root, Case& c) {
   });
 }
 
+// [[run_up]]: the highest point a body reaches over a region of the plan (summary.json).
+void read_run_ups(TableReader& root, Case& c) {
+  const int dim = c.simulation.dimension;
+  const std::vector<std::string> body_names = names_of(c.bodies);
+  for_each_entry(root, "run_up", [&](TableReader& r, std::size_t i) {
+    RunUpSpec u;
+    u.name = r.name("name", fmt::format("run_up{}", i));
+    for (const RunUpSpec& q : c.run_ups)
+      if (q.name == u.name) r.fail("name", "two run-up probes have this name");
+    u.body = lookup(r, "body", body_names, "body");
+    // The region's corners in the plan (x in 2D, x and y in 3D): the grid's by default.
+    for (int d = 0; d < dim - 1; ++d)
+      u.min[d] = c.grid.origin[d], u.max[d] = c.grid.origin[d] + c.grid.extent[d];
+    for (const char* key : {"min", "max"}) {
+      if (!r.has(key)) continue;
+      std::array<double, 2>& corner = key[1] == 'i' ? u.min : u.max;
+      if (dim == 2) {
+        corner[0] = r.number(key);
+      } else {
+        const Vec3a a = r.vector(key, 2);
+        corner = {a[0], a[1]};
+      }
+    }
+    for (int d = 0; d < dim - 1; ++d)
+      if (!(u.min[d] < u.max[d]))
+        r.fail("max", fmt::format("the region is empty along {}: max must exceed min", "xy"[d]));
+    u.level = r.number("level", c.water.level.value_or(0.0));
+    c.run_ups.push_back(u);
+  });
+}
+
 // [output]: the frames and their fields.
 void read_output(TableReader& root, Case& c) {
   if (const toml::table* out = root.table("output")) {

@@ -1,5 +1,5 @@
-// Reading the tables of a case file that say what a run reports: [results], [[probe]],
-// [output], [checkpoint], [maps], [[check]] (talus verify) and [verify].
+// Reading the tables of a case file that say what a run reports: [results], [[probe]], [[gauge]],
+// [[run_up]], [output], [checkpoint], [maps], [[check]] (talus verify) and [verify].
 #pragma once
 
 #include "talus/case/case.hpp"
@@ -10,6 +10,7 @@ namespace talus::case_reading {
 void read_results(TableReader& root, Case& c);
 void read_probes(TableReader& root, Case& c);
 void read_gauges(TableReader& root, Case& c);
+void read_run_ups(TableReader& root, Case& c);
 void read_output(TableReader& root, Case& c);
 void read_checkpoint(TableReader& root, Case& c);
 void read_maps(TableReader& root, Case& c);

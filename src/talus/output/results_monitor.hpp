@@ -8,7 +8,9 @@
 #include "talus/solver/simulation.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -34,9 +36,12 @@ nlohmann::json energy_budget(const Simulation<D>& sim, const FrameTotals<D>& tot
 // What the results monitor tracks of one step, formed on one process or over several (Runner::
 // step_figures): per probe its particle's speed, per interface its particles' largest pore
 // pressure and band temperature (-inf: none), and the results body's sums of m and m |v| (in
-// chunks of particle order, as Distributed::chunk_sums forms them).
+// chunks of particle order, as Distributed::chunk_sums forms them), and per run-up probe the
+// highest elevation of its body's particles over its region (-inf: none there) with the largest
+// plan coordinates among the particles at that elevation.
 struct StepFigures {
   std::vector<double> probe_speed, pore_peak, temperature_peak;
+  std::vector<double> run_up, run_up_at; // run_up_at: D - 1 coordinates per probe
   double mass = 0.0, mass_speed = 0.0;
 };
 constexpr std::int64_t figure_chunk = 1024; // particles per chunk of the body sums
@@ -52,6 +57,8 @@ public:
     probe_peak_.assign(probe_ids_.size(), 0.0);
     pore_peak_.assign(sim.setup().interfaces.size(), 0.0);
     temperature_peak_.assign(sim.setup().interfaces.size(), -inf);
+    const std::size_t U = sim.case_().run_ups.size();
+    run_up_.assign(U, -inf), run_up_time_.assign(U, 0.0), run_up_at_.assign(U * (D - 1), 0.0);
     if (body_ >= 0) centroid0_ = totals.bodies[body_].centroid;
   }
 
@@ -80,6 +87,7 @@ public:
         f.temperature_peak[i] = std::max(
             f.temperature_peak[i], spec.thermal_pressurization->temperature + s.temperature_rise());
     }
+    run_up_figures(sim, f);
     if (body_ >= 0) {
       const std::size_t begin = P.body_begin[body_], end = P.body_begin[body_ + 1];
       mass_.resize(P.size()), mass_speed_.resize(P.size());
@@ -96,6 +104,40 @@ public:
     return f;
   }
 
+  // The run-up probes' step figures: the highest particle (with mass: not one an outflow face
+  // emptied) of the probe's body over its region, ties to the largest plan coordinates, so that
+  // the maximum over processes is the one process's.
+  void run_up_figures(const Simulation<D>& sim, StepFigures& f) const {
+    const auto& P = sim.particles();
+    const std::vector<RunUpSpec>& ups = sim.case_().run_ups;
+    f.run_up.assign(ups.size(), -inf), f.run_up_at.assign(ups.size() * (D - 1), -inf);
+    for (std::size_t k = 0; k < ups.size(); ++k) {
+      const RunUpSpec& u = ups[k];
+      double* at = &f.run_up_at[k * (D - 1)];
+      for (std::size_t p = P.body_begin[u.body]; p < P.body_begin[u.body + 1]; ++p) {
+        if (P.m[p] <= 0.0 || !sim.is_own(p)) continue;
+        bool inside = true;
+        for (int d = 0; d < D - 1; ++d)
+          inside = inside && P.x[p][d] >= u.min[d] && P.x[p][d] <= u.max[d];
+        const double z = P.x[p][D - 1];
+        if (!inside || z < f.run_up[k]) continue;
+        if (z > f.run_up[k]) std::fill(at, at + D - 1, -inf);
+        f.run_up[k] = z;
+        for (int d = 0; d < D - 1; ++d)
+          at[d] = std::max(at[d], P.x[p][d]);
+      }
+    }
+    Exchange* ex = sim.exchange();
+    if (!ex || ups.empty()) return;
+    std::vector<double> lo(f.run_up), local(f.run_up);
+    ex->min_max(lo.data(), f.run_up.data(), static_cast<int>(ups.size()));
+    for (std::size_t k = 0; k < ups.size(); ++k) // only the processes that hold the highest
+      if (local[k] < f.run_up[k])
+        std::fill_n(f.run_up_at.begin() + static_cast<std::ptrdiff_t>(k * (D - 1)), D - 1, -inf);
+    lo = f.run_up_at;
+    ex->min_max(lo.data(), f.run_up_at.data(), static_cast<int>(f.run_up_at.size()));
+  }
+
   void update(const StepFigures& f, double time, double stop_speed) {
     for (std::size_t k = 0; k < probe_ids_.size(); ++k)
       probe_peak_[k] = std::max(probe_peak_[k], f.probe_speed[k]);
@@ -104,6 +146,12 @@ public:
       pore_peak_[i] = std::max(pore_peak_[i], f.pore_peak[i]);
       temperature_peak_[i] = std::max(temperature_peak_[i], f.temperature_peak[i]);
     }
+    for (std::size_t k = 0; k < run_up_.size(); ++k)
+      if (f.run_up[k] > run_up_[k]) {
+        run_up_[k] = f.run_up[k], run_up_time_[k] = time;
+        std::copy_n(f.run_up_at.begin() + static_cast<std::ptrdiff_t>(k * (D - 1)), D - 1,
+                    run_up_at_.begin() + static_cast<std::ptrdiff_t>(k * (D - 1)));
+      }
     if (body_ < 0) return;
     const double speed = f.mass_speed / f.mass;
     if (speed > peak_) peak_ = speed, peak_time_ = time;
@@ -138,6 +186,25 @@ public:
         water[name]["peak_band_temperature_C"] = temperature_peak_[f];
     }
     if (!water.empty()) j["interfaces"] = water;
+    // Run-up: the highest elevation reached over the region, above the probe's level (null:
+    // the body never reached the region).
+    nlohmann::json ups = nlohmann::json::object();
+    for (std::size_t k = 0; k < run_up_.size(); ++k) {
+      const RunUpSpec& u = c.run_ups[k];
+      nlohmann::json& r = ups[u.name];
+      r["body"] = c.bodies[u.body].name;
+      r["level_m"] = u.level;
+      if (!std::isfinite(run_up_[k])) {
+        r["elevation_m"] = r["above_level_m"] = nullptr;
+        continue;
+      }
+      r["elevation_m"] = run_up_[k];
+      r["above_level_m"] = run_up_[k] - u.level;
+      r["time_s"] = run_up_time_[k];
+      for (int d = 0; d < D - 1; ++d)
+        r[fmt::format("{}_m", "xy"[d])] = run_up_at_[k * (D - 1) + static_cast<std::size_t>(d)];
+    }
+    if (!ups.empty()) j["run_up"] = ups;
     if (body_ < 0) return j;
     j["body"] = c.bodies[body_].name;
     j["peak_mean_speed_m_s"] = peak_;
@@ -154,6 +221,7 @@ public:
   void serialize(Ar& ar) {
     ar.io(probe_ids_), ar.io(probe_peak_), ar.io(centroid0_), ar.io(peak_), ar.io(peak_time_);
     ar.io(last_moving_), ar.io(last_speed_), ar.io(pore_peak_), ar.io(temperature_peak_);
+    ar.io(run_up_), ar.io(run_up_time_), ar.io(run_up_at_);
   }
 
 private:
@@ -183,7 +251,8 @@ private:
   int body_;
   std::vector<std::uint32_t> probe_ids_;
   std::vector<double> probe_peak_;
-  std::vector<double> pore_peak_, temperature_peak_; // per interface
+  std::vector<double> pore_peak_, temperature_peak_;     // per interface
+  std::vector<double> run_up_, run_up_time_, run_up_at_; // per run-up probe (at: D - 1 each)
   Vec<D> centroid0_ = Vec<D>::Zero();
   double peak_ = 0.0, peak_time_ = 0.0, last_moving_ = 0.0, last_speed_ = 0.0;
 };
