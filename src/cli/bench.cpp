@@ -53,6 +53,12 @@ const std::vector<Problem>& problems() {
         "[0.620711, 0.420711]]",
         "body.slide.velocity=[1.414214, -1.414214]"},
        200},
+      // The Vaiont with its reservoir as a body (the flagship: a fluid body beside three rock
+      // bodies, the level, the band; 60,000 particles).
+      {"vaiont_reservoir",
+       "cases/vaiont/three_bodies_reservoir.toml",
+       {"initial_state.settle_time=0"},
+       200},
       // A real DEM in 3D: the volcano slide on its rigid flank and band (the step alone).
       {"volcano", "cases/examples/volcano_slide.toml", {"initial_state.settle_time=0"}, 400},
   };

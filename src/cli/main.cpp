@@ -192,7 +192,7 @@ int main(int argc, char** argv) {
   bench
       ->add_option("--problems", bench_opt.problems,
                    "column, column_4x, vaiont, vaiont_3d, column_bspline, vaiont_bspline, "
-                   "vaiont_wet, tank, volcano (default: column column_4x vaiont)")
+                   "vaiont_wet, tank, vaiont_reservoir, volcano (default: column column_4x vaiont)")
       ->check(CLI::IsMember(talus::bench_problem_names()))
       ->delimiter(',');
   bench->add_option("--json", bench_opt.json_out, "also write the figures as JSON here")
