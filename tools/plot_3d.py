@@ -5,6 +5,10 @@
   3d_section.png  a slice one particle spacing thick at the same times, as the 2D cases are
                   drawn: across y at the middle of the grid, or at --cut x=VALUE / y=VALUE
                   (the lattice row nearest it)
+  3d_lake.png     with a fluid body (--lake, default "lake"; its frames need the mass and volume
+  lake.json       fields): the water that has left the run through each outflow face over time
+                  (its particles an outflow face emptied: they lie on that face and keep their
+                  volume), and the run-up probes of summary.json
 
 Usage: plot_3d.py RUN_DIR [--times T ...] [--out DIR] [--every N] [--cut AXIS=VALUE] [--azim DEG]
 """
@@ -27,6 +31,7 @@ ap.add_argument("--out")
 ap.add_argument("--every", type=int, default=4, help="draw every Nth particle in perspective")
 ap.add_argument("--cut", help="the slice: x=VALUE or y=VALUE (default: y at the grid's middle)")
 ap.add_argument("--azim", type=float, default=-60.0, help="perspective azimuth (degrees)")
+ap.add_argument("--lake", default="lake", help="the fluid body, if the run has one")
 a = ap.parse_args()
 run = Path(a.run)
 out = Path(a.out) if a.out else run / "plots"
@@ -35,6 +40,8 @@ frames = [(float(e.get("timestep")), e.get("file"))
           for e in ET.parse(run / "particles.pvd").getroot().iter("DataSet")]
 case = tomllib.loads((run / "case_as_run.toml").read_text())
 rigid = {i for i, b in enumerate(case["body"]) if b.get("rigid", False)}
+names = [b["name"] for b in case["body"]]
+lake = names.index(a.lake) if a.lake in names else None
 
 
 def frame(t):
@@ -52,8 +59,10 @@ for k, (tf, m) in enumerate(shots):
         else np.zeros(len(x))
     sel = np.arange(len(x)) % a.every == 0
     hard = sel & np.isin(body, list(rigid))
-    soft = sel & ~np.isin(body, list(rigid))
+    water = sel & (body == lake)
+    soft = sel & ~np.isin(body, list(rigid)) & ~water
     ax.scatter(x[hard, 0], x[hard, 1], x[hard, 2], s=0.2, c="#bbbbbb", linewidths=0)
+    ax.scatter(x[water, 0], x[water, 1], x[water, 2], s=0.6, c="#3a7bd5", linewidths=0)
     sc = ax.scatter(x[soft, 0], x[soft, 1], x[soft, 2], s=0.4 if soft.sum() > 20000 else 3.0, c=disp[soft], cmap="viridis",
                     vmin=0, vmax=max(1.0, disp.max()), linewidths=0)
     ax.set_title(f"t = {tf:.1f} s")
@@ -79,6 +88,8 @@ for k, (tf, m) in enumerate(shots):
     ax = axes[0][k]
     ax.scatter(x[cut, across], x[cut, 2], s=1, c=np.where(np.isin(body[cut], list(rigid)), 0.8, 0.2),
                cmap="gray", vmin=0, vmax=1, linewidths=0)
+    wet = cut & (body == lake)
+    ax.scatter(x[wet, across], x[wet, 2], s=1, c="#3a7bd5", linewidths=0)
     ax.set_title(f"t = {tf:.1f} s, slice {'xy'[axis]} = {mid:.0f} m")
     ax.set_aspect("equal")
     ax.set_xlabel(f"{'xy'[across]} (m)")
@@ -87,3 +98,46 @@ fig.tight_layout()
 fig.savefig(out / "3d_section.png", dpi=110)
 plt.close(fig)
 print("wrote", out / "3d_frames.png", out / "3d_section.png")
+
+# The water that left through each outflow face of the grid: the lake's particles an outflow face
+# emptied (no mass) lie on that face and keep their volume at the crossing.
+if lake is not None:
+    import json
+    g = case["grid"]
+    origin = np.array(g.get("origin", [0.0, 0.0, 0.0]), dtype=float)
+    top = origin + np.array(g["extent"], dtype=float)
+    faces = {f"{'xyz'[d]}_{side}": (d, side) for d in range(3) for side in ("min", "max")
+             if g.get("boundary", {}).get(f"{'xyz'[d]}_{side}") == "outflow"}
+    series = {f: [] for f in faces}
+    times, total = [], None
+    for t, f in frames:
+        m = meshio.read(run / f)
+        if "mass" not in m.point_data or "volume" not in m.point_data:
+            raise SystemExit(f"plot_3d.py: {f} lacks the mass or volume field ([output] fields)")
+        w = m.point_data["body"].ravel().astype(int) == lake
+        vol = m.point_data["volume"].ravel()
+        empty = w & (m.point_data["mass"].ravel() == 0.0)
+        if total is None:
+            total = float(vol[w].sum())
+        times.append(t)
+        for name, (d, side) in faces.items():
+            at = top[d] if side == "max" else origin[d]
+            on = empty & (np.abs(m.points[:, d] - at) < 1e-6 * max(1.0, abs(at)))
+            series[name].append(float(vol[on].sum()))
+    summary = json.loads((run / "summary.json").read_text())
+    result = {"lake_volume_m3": total, "time_s": times, "left_through_m3": series,
+              "left_at_end_m3": {k: v[-1] for k, v in series.items()},
+              "run_up": summary.get("results", {}).get("run_up", {})}
+    (out / "lake.json").write_text(json.dumps(result, indent=1))
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    for name, v in series.items():
+        ax.plot(times, np.array(v) / 1e6, label=f"through {name}")
+    ax.set_xlabel("time since release (s)")
+    ax.set_ylabel("water that left (million m$^3$)")
+    ax.set_title(f"the lake: {total / 1e6:.1f} million m$^3$")
+    if series:
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(out / "3d_lake.png", dpi=110)
+    plt.close(fig)
+    print("wrote", out / "3d_lake.png", out / "lake.json", result["left_at_end_m3"])
