@@ -18,6 +18,7 @@ Usage: plot_vaiont.py RUN_DIR [--section cases/vaiont/section.csv] [--out DIR]
 import argparse
 import csv
 import json
+import tomllib
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -33,7 +34,8 @@ ap.add_argument("run")
 ap.add_argument("--section", default=str(Path(__file__).parent.parent / "cases/vaiont/section.csv"))
 ap.add_argument("--out")
 ap.add_argument("--times", type=float, nargs="+", default=[10.0, 17.5, 22.5, 33.5])
-ap.add_argument("--body", default="slide", help="the body of the speed and stress plots")
+ap.add_argument("--body", help="the body of the speed and stress plots (default: the case's "
+                "[results] body, else slide)")
 ap.add_argument("--slide", default="slide,upper,middle,toe",
                 help="the bodies that make up the slide (those present are used)")
 ap.add_argument("--lake", default="lake", help="the reservoir's body, if the run has it")
@@ -41,6 +43,8 @@ ap.add_argument("--spacing", type=float, default=4.0,
                 help="particle spacing (m) if the frames carry no volume field")
 a = ap.parse_args()
 run = Path(a.run)
+case = tomllib.loads((run / "case_as_run.toml").read_text())
+a.body = a.body or case.get("results", {}).get("body", "slide")
 out = Path(a.out) if a.out else run / "plots"
 out.mkdir(parents=True, exist_ok=True)
 frames = [(float(e.get("timestep")), e.get("file"))
@@ -162,8 +166,6 @@ figures = {
 # the wave over the valley's middle is the highest reading of the gauge there above the level;
 # the share of the slide's energy is the lake's peak kinetic energy over the slide's.
 if a.lake in body_names:
-    import tomllib
-    case = tomllib.loads((run / "case_as_run.toml").read_text())
     level = case.get("water", {}).get("level", 0.0)
     lake = body_names.index(a.lake)
     # The run's own run-up probe on the lake (summary.json, checked every step) if it has one;
@@ -184,8 +186,13 @@ if a.lake in body_names:
     rho_w = float(m0.point_data["mass"].ravel()[w0].sum() / m0.point_data["volume"].ravel()[w0].sum())
     rows = list(csv.DictReader(open(run / "bodies.csv")))
     lake_mass = [float(r["mass"]) for r in rows if r["body"] == a.lake]
-    ke = {n: max(float(r["kinetic_energy"]) for r in rows if r["body"] == n)
-          for n in (a.lake, a.body)}
+    # The slide's kinetic energy: all its bodies' at each row's time (five bodies: three parts).
+    slide_names = [body_names[i] for i in slide_ids]
+    lake_ke = max(float(r["kinetic_energy"]) for r in rows if r["body"] == a.lake)
+    slide_ke = {}
+    for r in rows:
+        if r["body"] in slide_names:
+            slide_ke[r["time"]] = slide_ke.get(r["time"], 0.0) + float(r["kinetic_energy"])
     gauge = [(float(r["elevation"]), float(r["time"]))
              for r in csv.DictReader(open(run / "waves.csv"))
              if r["gauge"] == "valley_middle" and r["elevation"]] if (run / "waves.csv").exists() \
@@ -198,7 +205,7 @@ if a.lake in body_names:
         # The water's surface over the valley's middle, the slide under it or not.
         "wave_over_valley_middle_m": (max(gauge)[0] - level) if gauge else None,
         "wave_over_valley_middle_time_s": max(gauge)[1] if gauge else None,
-        "lake_share_of_slide_kinetic_energy": ke[a.lake] / ke[a.body],
+        "lake_share_of_slide_kinetic_energy": lake_ke / max(slide_ke.values()),
     })
     times = [6.0, 10.0, 14.0, 18.0, 26.0, frames[-1][0]]
     fig, axes = plt.subplots(2, 3, figsize=(14, 6.4))
