@@ -18,7 +18,7 @@ build/release/talus run "$case_file" --out "$out" --overwrite "$@"
 /usr/bin/python3 -c "import json; r = json.load(open('$out/summary.json'))['results']; print('results:', json.dumps(r, indent=2))"
 /usr/bin/python3 tools/plot_run.py "$out" --field body
 case "$case_file" in
-  *vaiont/three_bodies*|*vaiont/five_bodies*|*vaiont/rigid_boundary.toml|*vaiont/rigid_boundary_wet*)
+  *vaiont/three_bodies*|*vaiont/five_bodies*|*vaiont/rigid_boundary.toml|*vaiont/rigid_boundary_wet*|*vaiont/rigid_boundary_reservoir*)
     /usr/bin/python3 tools/plot_vaiont.py "$out" ;;
 esac
 echo "results in $out (open $out/particles.pvd in ParaView; plots in $out/plots)"
