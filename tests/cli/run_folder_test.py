@@ -5,6 +5,7 @@ summary."""
 import csv
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -32,6 +33,10 @@ assert [float(f.get("timestep")) for f in frames] == [0.0, 0.1, 0.2], frames
 assert not [f for f in os.listdir(out) if f.endswith(".tmp")]
 
 last = meshio.read(os.path.join(out, frames[-1].get("file")))
+# Positions are float32 (output.position_precision "auto"): rounded by at most a 2,000th of a cell.
+cell = float(re.search(r"cell_size = ([0-9.eE+-]+)", open(case).read()).group(1))
+assert last.points.dtype == np.float32, last.points.dtype
+rounding = cell / 2000
 n = summary["particles"]
 assert last.points.shape == (n, 3), last.points.shape
 for field in ["body", "id", "velocity", "displacement", "stress", "mass", "volume", "plastic_strain"]:
@@ -48,14 +53,15 @@ for b, row in enumerate(rows):
     m = mass[body == b]
     centroid = (m[:, None] * last.points[body == b, :2]).sum(axis=0) / m.sum()
     assert abs(m.sum() - float(row["mass"])) < 1e-9 * m.sum(), row
-    assert np.allclose(centroid, [float(row["centroid_x"]), float(row["centroid_y"])], rtol=1e-9), (centroid, row)
+    assert np.allclose(centroid, [float(row["centroid_x"]), float(row["centroid_y"])], rtol=1e-9,
+                       atol=rounding), (centroid, row)
 
 # Displacement is position minus initial position.
 first = meshio.read(os.path.join(out, frames[0].get("file")))
 order0 = np.argsort(first.point_data["id"].ravel())
 order1 = np.argsort(last.point_data["id"].ravel())
 disp = last.points[order1] - first.points[order0]
-assert np.allclose(disp, last.point_data["displacement"][order1], atol=1e-12)
+assert np.allclose(disp, last.point_data["displacement"][order1], atol=2 * rounding)
 # The nodal contact forces (output.contact_nodes): a series beside the particles'. The sliding
 # block rests on its plane, so the forces on it hold about the weight's normal part.
 cout = out + "_contact"
@@ -75,7 +81,7 @@ mass = float(next(csv.DictReader(open(os.path.join(cout, "bodies.csv"))))["mass"
 assert 0.7 < normal / (mass * 9.81 * np.cos(np.pi / 6)) < 1.3, normal
 
 # VTK's own reader (python3-vtk9) reads the compressed appended frames: the same points and
-# fields as meshio, fields in float32 and positions in float64 by default.
+# fields as meshio, fields and positions in float32 by default (positions: "auto" on this small grid).
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 for folder, frame in [(out, frames[-1]), (cout, cframes[-1])]:
@@ -93,7 +99,7 @@ velocity = vtk.vtkXMLUnstructuredGridReader()
 velocity.SetFileName(os.path.join(out, frames[-1].get("file")))
 velocity.Update()
 assert velocity.GetOutput().GetPointData().GetArray("velocity").GetDataTypeAsString() == "float"
-assert velocity.GetOutput().GetPoints().GetData().GetDataTypeAsString() == "double"
+assert velocity.GetOutput().GetPoints().GetData().GetDataTypeAsString() == "float"  # "auto"
 
 # legend.json names the values of `body` and `material` (ParaView colour-map presets).
 import tomllib

@@ -196,7 +196,9 @@ struct OutputSettings {
   bool contact_nodes = false;      // write contact_nodes_NNNNNN.vtu: the last step's contact
                                    // force at every node where a body was corrected
   bool float64_fields = false;     // precision = "float64" (default "float32")
-  bool float32_positions = false;  // position_precision = "float32" (default "float64")
+  // position_precision: "float32", "float64" or (unset) "auto", float32 where it rounds a
+  // position by less than a 2,000th of a cell (float32_positions_suffice).
+  std::optional<bool> float32_positions;
 };
 
 // How the stress starts. "none": stress-free. "k0": the overburden of each grid column,

@@ -100,8 +100,10 @@ void read_output(TableReader& root, Case& c) {
     c.output.contact_nodes = ro.boolean("contact_nodes", false);
     c.output.float64_fields =
         ro.choice("precision", {"float32", "float64"}, "float32") == "float64";
-    c.output.float32_positions =
-        ro.choice("position_precision", {"float64", "float32"}, "float64") == "float32";
+    if (const std::string p =
+            ro.choice("position_precision", {"auto", "float64", "float32"}, "auto");
+        p != "auto")
+      c.output.float32_positions = p == "float32";
     if (const toml::array* f = ro.array("fields")) {
       const std::vector<std::string> known = {
           "velocity", "stress",   "displacement", "mass",  "volume",        "plastic_strain",

@@ -149,9 +149,24 @@ double estimate_memory(const Case& c, const std::vector<std::size_t>& particles)
   return memory;
 }
 
+bool float32_positions_suffice(const GridSettings& grid, int dim) {
+  double largest = 0.0;
+  for (int d = 0; d < dim; ++d)
+    largest =
+        std::max({largest, std::abs(grid.origin[d]), std::abs(grid.origin[d] + grid.extent[d])});
+  if (largest == 0.0) return true;
+  const double half_spacing = std::ldexp(1.0, std::ilogb(largest) - 24);
+  return half_spacing <= grid.cell_size / 2000.0;
+}
+
+bool frame_float32_positions(const Case& c) {
+  return c.output.float32_positions.value_or(
+      float32_positions_suffice(c.grid, c.simulation.dimension));
+}
+
 double frame_bytes_per_particle(const Case& c) {
   const double real = c.output.float64_fields ? 8.0 : 4.0;
-  const double position = c.output.float32_positions ? 12.0 : 24.0;
+  const double position = frame_float32_positions(c) ? 12.0 : 24.0;
   auto wants = [&](const std::string& f) {
     return c.output.fields.empty() ||
            std::find(c.output.fields.begin(), c.output.fields.end(), f) != c.output.fields.end();

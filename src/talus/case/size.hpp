@@ -37,6 +37,12 @@ void geometry_bounds(const Geometry& g, int dim, Vec3a& lo, Vec3a& hi);
 // geometric normals cached at contact nodes scale with the contact surface: left out).
 double estimate_memory(const Case& c, const std::vector<std::size_t>& particles);
 
+// Whether float32 positions round within a 2,000th of a cell over the whole grid: half float32's
+// spacing at the grid's largest |coordinate| x, 2^(floor(log2 x) - 24), is at most h / 2000.
+bool float32_positions_suffice(const GridSettings& grid, int dim);
+// The frames' position precision: the case's, else float32 where float32_positions_suffice.
+bool frame_float32_positions(const Case& c);
+
 // Bytes per particle of one VTU frame before compression: positions, the vertex cells, body
 // and id, and each field of output.fields at output.precision.
 double frame_bytes_per_particle(const Case& c);

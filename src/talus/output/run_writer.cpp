@@ -1,5 +1,6 @@
 #include "talus/output/run_writer.hpp"
 
+#include "talus/case/size.hpp"
 #include "talus/output/files.hpp"
 #include "talus/output/frame_totals.hpp"
 #include "talus/output/vtu.hpp"
@@ -198,7 +199,7 @@ void RunWriter<D>::write_particles(const std::string& path, const Simulation<D>&
     extra.emplace_back("band_temperature", [&](std::size_t p) { return band_temperature(sim, p); });
   write_particles_vtu<D>(
       path, sim.particles(), mats,
-      VtuFields{c.output.fields, c.output.float64_fields, c.output.float32_positions}, extra,
+      VtuFields{c.output.fields, c.output.float64_fields, frame_float32_positions(c)}, extra,
       order);
 }
 

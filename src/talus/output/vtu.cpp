@@ -213,21 +213,29 @@ void particle_arrays(VtuBuilder* out, const Particles<D>& P, const std::vector<i
     return [get](std::size_t p, int k) { return k < D ? get(p)[k] : 0.0; };
   };
   reals("position", 3, !fields.float32_positions, vec3([&](std::size_t p) { return P.x[p]; }));
-  // Vertices numbered in order: the cells need no gathering.
+  // Vertices numbered in order: the cells need no gathering. Int32 indices up to 2^31 - 1
+  // particles (half the bytes of Int64 before compression), Int64 beyond.
   if (out) {
     out->xml("      </Points>\n      <Cells>\n");
-    std::vector<std::int64_t> v;
-    for (const char* name : {"connectivity", "offsets"}) {
-      out->begin("Int64", name, 1, 8 * n);
-      const std::int64_t shift = name[0] == 'o';
-      for (std::size_t at = 0; at < n; at += v.size()) {
-        v.resize(std::min<std::size_t>(n - at, std::size_t{1} << 19));
-        for (std::size_t k = 0; k < v.size(); ++k)
-          v[k] = static_cast<std::int64_t>(at + k) + shift;
-        out->append(v.data(), 8 * v.size());
+    auto indices = [&](auto zero, const char* type) {
+      using Int = decltype(zero);
+      std::vector<Int> v;
+      for (const char* name : {"connectivity", "offsets"}) {
+        out->begin(type, name, 1, sizeof(Int) * n);
+        const std::size_t shift = name[0] == 'o';
+        for (std::size_t at = 0; at < n; at += v.size()) {
+          v.resize(std::min<std::size_t>(n - at, std::size_t{1} << 19));
+          for (std::size_t k = 0; k < v.size(); ++k)
+            v[k] = static_cast<Int>(at + k + shift);
+          out->append(v.data(), sizeof(Int) * v.size());
+        }
+        out->end();
       }
-      out->end();
-    }
+    };
+    if (n < std::size_t{1} << 31)
+      indices(std::int32_t{0}, "Int32");
+    else
+      indices(std::int64_t{0}, "Int64");
     out->begin("UInt8", "types", 1, n);
     const std::vector<std::uint8_t> vertex(std::size_t{1} << 20, 1); // VTK_VERTEX
     for (std::size_t at = 0; at < n; at += vertex.size())
