@@ -8,8 +8,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <gtest/gtest.h>
+#include <random>
 #include <sstream>
 
 namespace talus {
