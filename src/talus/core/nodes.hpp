@@ -8,6 +8,8 @@
 #include "talus/core/shape.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace talus {
@@ -80,22 +82,45 @@ struct BodyField {
     std::size_t n = 1;
     for (int d = 0; d < D; ++d)
       n *= static_cast<std::size_t>(box.nodes[d]);
-    auto clear = [n](auto& a, const auto& zero) { a.assign(n, zero); };
     for (auto* a : {&v, &v_new})
       a->resize(n);
     if (needs.remap) v_remap.resize(n);
-    clear(m, 0.0);
-    clear(p, Vec<D>::Zero());
-    clear(f, Vec<D>::Zero());
-    if (needs.contact) clear(grad_m, Vec<D>::Zero()), clear(mx, Vec<D>::Zero());
-    if (needs.hydro) clear(hydro, Vec<D>::Zero());
-    if (needs.interfaces)
+    const std::size_t ns = n * static_cast<std::size_t>(slots);
+    // Sized first, then zeroed by the threads together: a body's box can be the whole grid, and
+    // its arrays (with interface slots, 100-250 B a node) cleared by one thread every step
+    // held the other idle.
+    auto size = [](auto& a, std::size_t count, bool want) { a.resize(want ? count : a.size()); };
+    size(m, n, true), size(p, n, true), size(f, n, true);
+    size(grad_m, n, needs.contact), size(mx, n, needs.contact), size(hydro, n, needs.hydro);
+    for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate, &slip_weight})
+      size(*a, ns, needs.interfaces);
+    for (auto* a : {&pore_force, &heat_weight, &normal_stress})
+      size(*a, ns, needs.interfaces && needs.pressure);
+    size(heat, ns, needs.interfaces && needs.heating);
+    auto zero = [](auto& a, bool want) {
+      if (!want) return;
+      using T = typename std::decay_t<decltype(a)>::value_type;
+      T nil;
+      if constexpr (std::is_same_v<T, double>)
+        nil = 0.0;
+      else
+        nil = T::Zero();
+      const auto count = static_cast<std::int64_t>(a.size());
+#pragma omp for schedule(static) nowait
+      for (std::int64_t i = 0; i < count; ++i)
+        a[static_cast<std::size_t>(i)] = nil;
+    };
+    const std::size_t per_node = 7 * D * sizeof(double) + 13 * sizeof(double) * slots;
+#pragma omp parallel if (n * per_node >= (std::size_t{1} << 20))
+    {
+      zero(m, true), zero(p, true), zero(f, true);
+      zero(grad_m, needs.contact), zero(mx, needs.contact), zero(hydro, needs.hydro);
       for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate, &slip_weight})
-        a->assign(n * static_cast<std::size_t>(slots), 0.0);
-    if (needs.interfaces && needs.pressure)
+        zero(*a, needs.interfaces);
       for (auto* a : {&pore_force, &heat_weight, &normal_stress})
-        a->assign(n * static_cast<std::size_t>(slots), 0.0);
-    if (needs.interfaces && needs.heating) heat.assign(n * static_cast<std::size_t>(slots), 0.0);
+        zero(*a, needs.interfaces && needs.pressure);
+      zero(heat, needs.interfaces && needs.heating);
+    }
   }
 
   // The shape weights of the point x, taken on the frame and indexed in the stored box: every
