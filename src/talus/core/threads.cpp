@@ -15,6 +15,22 @@ const int threads_at_start = omp_get_max_threads(); // before anyone sets the nu
 } // namespace
 #endif
 
+int team_size() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+int thread_number() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
 int available_threads() {
 #ifdef _OPENMP
   return threads_at_start;

@@ -1,6 +1,7 @@
 // The particle order that makes the scatter deterministic: particles sorted by cell within each
 // body, and binned by slab of cells along x for the coloured scatter.
 #include "talus/core/particle_sort.hpp"
+#include "talus/core/threads.hpp"
 #include "talus/solver/simulation.hpp"
 
 #include <algorithm>
@@ -47,13 +48,43 @@ void Simulation<D>::bin_particles_by_slab() {
       plan_.particle_bin[p] = static_cast<std::uint32_t>(s * B + b);
     }
   }
-  for (std::size_t p = 0; p < n; ++p)
-    if (plan_.particle_bin[p] != none) ++plan_.bin_offset[plan_.particle_bin[p] + 1];
-  std::partial_sum(plan_.bin_offset.begin(), plan_.bin_offset.end(), plan_.bin_offset.begin());
-  std::vector<std::size_t> fill(plan_.bin_offset.begin(), plan_.bin_offset.end() - 1);
-  for (std::size_t p = 0; p < n; ++p)
-    if (plan_.particle_bin[p] != none)
-      plan_.bin_index[fill[plan_.particle_bin[p]]++] = static_cast<std::uint32_t>(p);
+  // A counting sort by bin, stable in p, on every thread: each thread counts the bins of its
+  // own contiguous range of particles, a bin's start for thread t is its start plus the counts
+  // of threads before t, and each thread files its range from there. Within a bin the particles
+  // stay in increasing p whatever the thread count: the one-thread order.
+  const std::size_t bins = plan_.bin_offset.size() - 1;
+  const int threads = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(team_size()),
+                                                             std::max<std::size_t>(n / 65536, 1)));
+  std::vector<std::size_t> count(static_cast<std::size_t>(threads) * bins, 0);
+  auto range = [&](int t) {
+    return std::pair{n * static_cast<std::size_t>(t) / static_cast<std::size_t>(threads),
+                     n * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(threads)};
+  };
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = thread_number();
+    const auto [begin, end] = range(t);
+    std::size_t* mine = count.data() + static_cast<std::size_t>(t) * bins;
+    for (std::size_t p = begin; p < end; ++p)
+      if (plan_.particle_bin[p] != none) ++mine[plan_.particle_bin[p]];
+#pragma omp barrier
+#pragma omp single
+    {
+      std::size_t at = 0;
+      for (std::size_t bin = 0; bin < bins; ++bin) {
+        plan_.bin_offset[bin] = at;
+        for (int u = 0; u < threads; ++u) {
+          const std::size_t c = count[static_cast<std::size_t>(u) * bins + bin];
+          count[static_cast<std::size_t>(u) * bins + bin] = at;
+          at += c;
+        }
+      }
+      plan_.bin_offset[bins] = at;
+    }
+    for (std::size_t p = begin; p < end; ++p)
+      if (plan_.particle_bin[p] != none)
+        plan_.bin_index[mine[plan_.particle_bin[p]]++] = static_cast<std::uint32_t>(p);
+  }
 }
 
 #define TALUS_INSTANTIATE(D)                                                                       \
