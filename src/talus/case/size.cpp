@@ -150,10 +150,13 @@ double estimate_memory(const Case& c, const std::vector<std::size_t>& particles)
 }
 
 bool float32_positions_suffice(const GridSettings& grid, int dim) {
+  // The grid's far face is a whole number of cells from its origin (Grid: ceil(extent / h)).
   double largest = 0.0;
-  for (int d = 0; d < dim; ++d)
-    largest =
-        std::max({largest, std::abs(grid.origin[d]), std::abs(grid.origin[d] + grid.extent[d])});
+  for (int d = 0; d < dim; ++d) {
+    const double far =
+        grid.origin[d] + std::ceil(grid.extent[d] / grid.cell_size - 1e-9) * grid.cell_size;
+    largest = std::max({largest, std::abs(grid.origin[d]), std::abs(far)});
+  }
   if (largest == 0.0) return true;
   const double half_spacing = std::ldexp(1.0, std::ilogb(largest) - 24);
   return half_spacing <= grid.cell_size / 2000.0;
@@ -171,7 +174,8 @@ double frame_bytes_per_particle(const Case& c) {
     return c.output.fields.empty() ||
            std::find(c.output.fields.begin(), c.output.fields.end(), f) != c.output.fields.end();
   };
-  double bytes = position + 8 + 8 + 1 + 4 + 4; // positions, connectivity, offsets, types, body, id
+  double bytes = position + 4 + 4 + 1 + 4 + 4; // positions, connectivity and offsets (Int32),
+                                               // types, body, id
   bytes += wants("velocity") * 3 * real + wants("displacement") * 3 * real;
   bytes += wants("stress") * 6 * real;
   bytes += (wants("mass") + wants("volume") + wants("plastic_strain")) * real;

@@ -23,14 +23,6 @@ int team_size() {
 #endif
 }
 
-int thread_number() {
-#ifdef _OPENMP
-  return omp_get_thread_num();
-#else
-  return 0;
-#endif
-}
-
 int available_threads() {
 #ifdef _OPENMP
   return threads_at_start;

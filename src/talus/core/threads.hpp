@@ -23,9 +23,7 @@ int available_threads();
 // thread per particles_per_thread particles, at least 1 and at most the cores OpenMP may use.
 int set_threads(int requested, std::size_t particles);
 
-// OpenMP's thread count for the next parallel region and this thread's number in the current
-// one (1 and 0 without OpenMP).
+// OpenMP's thread count for the next parallel region (1 without OpenMP).
 int team_size();
-int thread_number();
 
 } // namespace talus

@@ -48,42 +48,50 @@ void Simulation<D>::bin_particles_by_slab() {
       plan_.particle_bin[p] = static_cast<std::uint32_t>(s * B + b);
     }
   }
-  // A counting sort by bin, stable in p, on every thread: each thread counts the bins of its
-  // own contiguous range of particles, a bin's start for thread t is its start plus the counts
-  // of threads before t, and each thread files its range from there. Within a bin the particles
-  // stay in increasing p whatever the thread count: the one-thread order.
+  // A counting sort by bin, stable in p, over `chunks` contiguous ranges of particles: each
+  // range's bins are counted, a bin's start for range u is its start plus the counts of the
+  // ranges before u, and each range is filed from there. Within a bin the particles stay in
+  // increasing p, the one-thread order, whatever team OpenMP gives (the ranges are shared out,
+  // not tied to thread numbers).
   const std::size_t bins = plan_.bin_offset.size() - 1;
-  const int threads = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(team_size()),
-                                                             std::max<std::size_t>(n / 65536, 1)));
-  std::vector<std::size_t> count(static_cast<std::size_t>(threads) * bins, 0);
-  auto range = [&](int t) {
-    return std::pair{n * static_cast<std::size_t>(t) / static_cast<std::size_t>(threads),
-                     n * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(threads)};
+  const int chunks = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(team_size()),
+                                                            std::max<std::size_t>(n / 65536, 1)));
+  std::vector<std::size_t> count(static_cast<std::size_t>(chunks) * bins, 0);
+  auto range = [&](int u) {
+    return std::pair{n * static_cast<std::size_t>(u) / static_cast<std::size_t>(chunks),
+                     n * static_cast<std::size_t>(u + 1) / static_cast<std::size_t>(chunks)};
   };
-#pragma omp parallel num_threads(threads)
+  auto row = [&](int u) { return count.data() + static_cast<std::size_t>(u) * bins; };
+#pragma omp parallel num_threads(chunks)
   {
-    const int t = thread_number();
-    const auto [begin, end] = range(t);
-    std::size_t* mine = count.data() + static_cast<std::size_t>(t) * bins;
-    for (std::size_t p = begin; p < end; ++p)
-      if (plan_.particle_bin[p] != none) ++mine[plan_.particle_bin[p]];
-#pragma omp barrier
+#pragma omp for schedule(static)
+    for (int u = 0; u < chunks; ++u) {
+      const auto [begin, end] = range(u);
+      std::size_t* mine = row(u);
+      for (std::size_t p = begin; p < end; ++p)
+        if (plan_.particle_bin[p] != none) ++mine[plan_.particle_bin[p]];
+    }
 #pragma omp single
     {
       std::size_t at = 0;
       for (std::size_t bin = 0; bin < bins; ++bin) {
         plan_.bin_offset[bin] = at;
-        for (int u = 0; u < threads; ++u) {
-          const std::size_t c = count[static_cast<std::size_t>(u) * bins + bin];
-          count[static_cast<std::size_t>(u) * bins + bin] = at;
+        for (int u = 0; u < chunks; ++u) {
+          const std::size_t c = row(u)[bin];
+          row(u)[bin] = at;
           at += c;
         }
       }
       plan_.bin_offset[bins] = at;
     }
-    for (std::size_t p = begin; p < end; ++p)
-      if (plan_.particle_bin[p] != none)
-        plan_.bin_index[mine[plan_.particle_bin[p]]++] = static_cast<std::uint32_t>(p);
+#pragma omp for schedule(static)
+    for (int u = 0; u < chunks; ++u) {
+      const auto [begin, end] = range(u);
+      std::size_t* mine = row(u);
+      for (std::size_t p = begin; p < end; ++p)
+        if (plan_.particle_bin[p] != none)
+          plan_.bin_index[mine[plan_.particle_bin[p]]++] = static_cast<std::uint32_t>(p);
+    }
   }
 }
 

@@ -85,6 +85,11 @@ TEST(Vtu, PositionsAreFloat32WhereTheyRoundWithinA2000thOfACell) {
       else
         EXPECT_GT(worst, h / 4000.0) << largest << " m, cell " << h << " m";
     }
+  GridSettings edge; // the far face a whole cell past origin + extent, beyond 2^18 m
+  edge.origin = {5.0, 0.0, 0.0}, edge.extent = {262135.0, 100.0, 0.0}, edge.cell_size = 16.0;
+  EXPECT_FALSE(float32_positions_suffice(edge, 2));
+  edge.extent[0] = 262000.0; // the far face at 262,005 m, below 2^18: half spacing h / 2048
+  EXPECT_TRUE(float32_positions_suffice(edge, 2));
   GridSettings vaiont; // cases/vaiont's grid at the paper's 2 m cells (1 m particle spacing)
   vaiont.origin = {-32.0, -316.0, 0.0}, vaiont.extent = {1808.0, 944.0, 0.0};
   vaiont.cell_size = 2.0;
