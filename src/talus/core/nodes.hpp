@@ -86,41 +86,38 @@ struct BodyField {
       a->resize(n);
     if (needs.remap) v_remap.resize(n);
     const std::size_t ns = n * static_cast<std::size_t>(slots);
+    // The mapped quantities, each with its length and whether the body keeps it.
+    auto each = [&](auto&& act) {
+      act(m, n, true), act(p, n, true), act(f, n, true);
+      act(grad_m, n, needs.contact), act(mx, n, needs.contact), act(hydro, n, needs.hydro);
+      for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate, &slip_weight})
+        act(*a, ns, needs.interfaces);
+      for (auto* a : {&pore_force, &heat_weight, &normal_stress})
+        act(*a, ns, needs.interfaces && needs.pressure);
+      act(heat, ns, needs.interfaces && needs.heating);
+    };
     // Sized first, then zeroed by the threads together: a body's box can be the whole grid, and
     // its arrays (with interface slots, 100-250 B a node) cleared by one thread every step
     // held the other idle.
-    auto size = [](auto& a, std::size_t count, bool want) { a.resize(want ? count : a.size()); };
-    size(m, n, true), size(p, n, true), size(f, n, true);
-    size(grad_m, n, needs.contact), size(mx, n, needs.contact), size(hydro, n, needs.hydro);
-    for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate, &slip_weight})
-      size(*a, ns, needs.interfaces);
-    for (auto* a : {&pore_force, &heat_weight, &normal_stress})
-      size(*a, ns, needs.interfaces && needs.pressure);
-    size(heat, ns, needs.interfaces && needs.heating);
-    auto zero = [](auto& a, bool want) {
+    std::size_t bytes = 0;
+    each([&](auto& a, std::size_t count, bool want) {
+      if (want) a.resize(count), bytes += count * sizeof(a[0]);
+    });
+#pragma omp parallel if (bytes >= (std::size_t{1} << 20))
+    each([](auto& a, std::size_t, bool want) {
       if (!want) return;
       using T = typename std::decay_t<decltype(a)>::value_type;
-      T nil;
-      if constexpr (std::is_same_v<T, double>)
-        nil = 0.0;
-      else
-        nil = T::Zero();
+      const T nil = [] {
+        if constexpr (std::is_same_v<T, double>)
+          return 0.0;
+        else
+          return T(T::Zero());
+      }();
       const auto count = static_cast<std::int64_t>(a.size());
 #pragma omp for schedule(static) nowait
       for (std::int64_t i = 0; i < count; ++i)
         a[static_cast<std::size_t>(i)] = nil;
-    };
-    const std::size_t per_node = 7 * D * sizeof(double) + 13 * sizeof(double) * slots;
-#pragma omp parallel if (n * per_node >= (std::size_t{1} << 20))
-    {
-      zero(m, true), zero(p, true), zero(f, true);
-      zero(grad_m, needs.contact), zero(mx, needs.contact), zero(hydro, needs.hydro);
-      for (auto* a : {&cohesion, &tension, &friction_area, &area, &slip_rate, &slip_weight})
-        zero(*a, needs.interfaces);
-      for (auto* a : {&pore_force, &heat_weight, &normal_stress})
-        zero(*a, needs.interfaces && needs.pressure);
-      zero(heat, needs.interfaces && needs.heating);
-    }
+    });
   }
 
   // The shape weights of the point x, taken on the frame and indexed in the stored box: every
