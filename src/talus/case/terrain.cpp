@@ -2,17 +2,13 @@
 
 #include "talus/case/parse.hpp"
 #include "talus/case/toml_reader.hpp"
+#include "talus/core/gdal.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cpl_error.h>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
-#include <gdal_priv.h>
-#include <mutex>
-#include <ogr_spatialref.h>
-#include <ogrsf_frmts.h>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -46,40 +42,26 @@ namespace {
 // elevation far outside is a unit or no-data mistake.
 constexpr double lowest_elevation = -12000.0, highest_elevation = 9000.0;
 
-void register_gdal() {
-  static std::once_flag once;
-  std::call_once(once, [] { GDALAllRegister(); });
-}
-
-// GDAL reports errors through a handler; it is silenced while a file is read and its last
-// message goes into ours.
-struct QuietGdal {
-  QuietGdal() {
-    register_gdal();
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
-  }
-  ~QuietGdal() { CPLPopErrorHandler(); }
-  static std::string last() {
-    const std::string m = CPLGetLastErrorMsg();
-    return m.empty() ? "" : ": " + m;
-  }
-};
-
-std::string wkt_of(const OGRSpatialReference* srs) {
-  if (!srs) return "";
-  char* w = nullptr;
-  srs->exportToWkt(&w);
-  std::string s = w ? w : "";
-  CPLFree(w);
-  return s;
-}
-
-void require_projected(const std::string& path, const OGRSpatialReference* srs) {
-  if (srs && srs->IsGeographic())
+// Throws for a file whose coordinates are degrees.
+void require_projected(const std::string& path, bool geographic, const std::string& crs) {
+  if (geographic)
     throw CaseError(fmt::format("{}: its coordinates are in degrees ({}); Talus needs projected "
                                 "metres: reproject it first (e.g. gdalwarp -t_srs EPSG:32632)",
-                                path, crs_name(wkt_of(srs))));
+                                path, crs_name(crs)));
+}
+
+// GDAL's module, or a CaseError naming what needed it.
+const gdal::Module& gdal_for(const std::string& what) {
+  try {
+    return gdal::module();
+  } catch (const std::runtime_error& e) {
+    throw CaseError(fmt::format("{}: {}", what, e.what()));
+  }
+}
+
+// GDAL's message after a colon, or nothing.
+std::string because(const std::string& message) {
+  return message.empty() ? "" : ": " + message;
 }
 
 // An ESRI ASCII grid checked where GDAL is silent or vague: each header line's key is one the
@@ -141,48 +123,45 @@ std::shared_ptr<const Raster> read_raster(const std::string& path,
                                           const std::array<double, 3>& origin) {
   if (std::filesystem::is_directory(path))
     throw CaseError(fmt::format("{}: is a folder, not a raster", path));
-  QuietGdal quiet;
-  GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  // The header first, checked before band 1's values are read (a typo's gigabytes never asked).
+  gdal::RasterFile f = gdal_for(path).read_raster(path, false);
   const std::string ext = std::filesystem::path(path).extension().string();
-  const bool ascii = ext == ".asc" || ext == ".ASC" ||
-                     (ds && std::string(ds->GetDriver()->GetDescription()) == "AAIGrid");
-  if (!ds) {
-    const std::string why = QuietGdal::last();
+  const bool ascii = ext == ".asc" || ext == ".ASC" || f.driver == "AAIGrid";
+  if (!f.opened) {
     if (ascii) check_ascii_grid(path, false); // a header typo, named by its line
-    throw CaseError(
-        fmt::format("{}: GDAL does not read it as a raster of a format it knows{}", path, why));
+    throw CaseError(fmt::format("{}: GDAL does not read it as a raster of a format it knows{}",
+                                path, because(f.error)));
   }
   if (ascii) check_ascii_grid(path, true);
   auto r = std::make_shared<Raster>();
   r->file = path;
-  r->nx = ds->GetRasterXSize();
-  r->ny = ds->GetRasterYSize();
-  if (ds->GetRasterCount() < 1 || r->nx < 2 || r->ny < 2)
+  r->nx = f.nx;
+  r->ny = f.ny;
+  if (f.bands < 1 || r->nx < 2 || r->ny < 2)
     throw CaseError(fmt::format("{}: {} x {} cells in {} bands; a raster needs one band of at "
                                 "least 2 x 2 cells",
-                                path, r->nx, r->ny, ds->GetRasterCount()));
-  double gt[6];
-  if (ds->GetGeoTransform(gt) != CE_None)
+                                path, r->nx, r->ny, f.bands));
+  const std::array<double, 6>& gt = f.transform;
+  if (!f.georeferenced)
     throw CaseError(fmt::format("{}: has no georeferencing (origin and cell size)", path));
   if (gt[2] != 0.0 || gt[4] != 0.0)
     throw CaseError(fmt::format("{}: a rotated grid; warp it north-up first (gdalwarp)", path));
   if (!(gt[1] > 0.0) || gt[5] == 0.0)
     throw CaseError(fmt::format("{}: cell size {} x {} m is not usable", path, gt[1], gt[5]));
-  const OGRSpatialReference* srs = ds->GetSpatialRef();
-  require_projected(path, srs);
-  r->crs = wkt_of(srs);
+  require_projected(path, f.geographic, f.crs);
+  r->crs = f.crs;
   r->dx = gt[1];
   r->dy = std::abs(gt[5]);
   r->north_up = gt[5] < 0.0;
   r->x0 = gt[0] - origin[0];
   r->y0 = (r->north_up ? gt[3] + r->ny * gt[5] : gt[3]) - origin[1];
-  GDALRasterBand* band = ds->GetRasterBand(1);
-  std::vector<double> rows(static_cast<std::size_t>(r->nx) * r->ny);
-  if (band->RasterIO(GF_Read, 0, 0, r->nx, r->ny, rows.data(), r->nx, r->ny, GDT_Float64, 0, 0) !=
-      CE_None)
-    throw CaseError(fmt::format("{}: cannot read its values{}", path, QuietGdal::last()));
-  int has_nodata = 0;
-  const double nodata = band->GetNoDataValue(&has_nodata);
+  f = gdal_for(path).read_raster(path, true);
+  if (f.read && (f.nx != r->nx || f.ny != r->ny))
+    throw CaseError(fmt::format("{}: changed while it was read", path));
+  if (!f.read) throw CaseError(fmt::format("{}: cannot read its values{}", path, because(f.error)));
+  const std::vector<double>& rows = f.values;
+  const bool has_nodata = f.has_nodata;
+  const double nodata = f.nodata;
   r->z.resize(rows.size());
   r->z_min = inf, r->z_max = -inf;
   for (int row = 0; row < r->ny; ++row)
@@ -208,56 +187,29 @@ std::vector<std::array<double, 2>> read_footprint_vector(const std::string& path
                                                          std::string& crs) {
   if (std::filesystem::is_directory(path))
     throw CaseError(fmt::format("{}: is a folder, not a footprint file", path));
-  QuietGdal quiet;
-  GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
-  if (!ds)
+  const gdal::Footprint f = gdal_for(path).read_footprint(path);
+  if (!f.opened)
     throw CaseError(fmt::format("{}: cannot read it as a vector file (GeoJSON, shapefile){}", path,
-                                QuietGdal::last()));
-  for (OGRLayer* layer : ds->GetLayers()) {
-    layer->ResetReading();
-    while (OGRFeatureUniquePtr f{layer->GetNextFeature()}) {
-      const OGRGeometry* g = f->GetGeometryRef();
-      if (!g) continue;
-      const OGRPolygon* poly = nullptr;
-      const auto type = wkbFlatten(g->getGeometryType());
-      if (type == wkbPolygon)
-        poly = g->toPolygon();
-      else if (type == wkbMultiPolygon && g->toMultiPolygon()->getNumGeometries() > 0)
-        poly = g->toMultiPolygon()->getGeometryRef(0);
-      if (!poly || !poly->getExteriorRing()) continue;
-      const OGRSpatialReference* srs = layer->GetSpatialRef();
-      require_projected(path, srs);
-      crs = wkt_of(srs);
-      std::vector<std::array<double, 2>> v;
-      const OGRLinearRing* ring = poly->getExteriorRing();
-      for (int k = 0; k < ring->getNumPoints(); ++k)
-        v.push_back({ring->getX(k) - origin[0], ring->getY(k) - origin[1]});
-      return v;
-    }
-  }
-  throw CaseError(fmt::format("{}: holds no polygon", path));
+                                because(f.error)));
+  if (!f.found && !f.error.empty())
+    throw CaseError(fmt::format("{}: cannot read its polygons: {}", path, f.error));
+  if (!f.found) throw CaseError(fmt::format("{}: holds no polygon", path));
+  require_projected(path, f.geographic, f.crs);
+  crs = f.crs;
+  std::vector<std::array<double, 2>> v;
+  for (const auto& [x, y] : f.ring)
+    v.push_back({x - origin[0], y - origin[1]});
+  return v;
 }
 
 bool same_crs(const std::string& a, const std::string& b) {
   if (a.empty() || b.empty()) return true;
-  OGRSpatialReference sa, sb;
-  if (sa.importFromWkt(a.c_str()) != OGRERR_NONE || sb.importFromWkt(b.c_str()) != OGRERR_NONE)
-    return a == b;
-  const char* options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES", "CRITERION=EQUIVALENT",
-                           nullptr};
-  return sa.IsSame(&sb, options);
+  const int same = gdal_for("comparing coordinate systems").same_crs(a, b);
+  return same < 0 ? a == b : same == 1;
 }
 
 std::string crs_name(const std::string& wkt) {
-  if (wkt.empty()) return "none";
-  OGRSpatialReference s;
-  if (s.importFromWkt(wkt.c_str()) != OGRERR_NONE) return "unreadable";
-  const char* name = s.GetName();
-  const char* code = s.GetAuthorityCode(nullptr);
-  const char* auth = s.GetAuthorityName(nullptr);
-  std::string out = name ? name : "unnamed";
-  if (code && auth) out += fmt::format(", {}:{}", auth, code);
-  return out;
+  return wkt.empty() ? "none" : gdal_for("naming a coordinate system").crs_name(wkt);
 }
 
 } // namespace case_reading

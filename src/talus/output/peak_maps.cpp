@@ -1,20 +1,14 @@
 #include "talus/output/peak_maps.hpp"
 
+#include "talus/core/gdal.hpp"
 #include "talus/output/files.hpp"
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
-#include <cpl_string.h>
-#include <cpl_vsi.h>
 #include <fmt/format.h>
 #include <functional>
-#include <gdal_alg.h>
-#include <gdal_priv.h>
 #include <limits>
-#include <mutex>
-#include <ogrsf_frmts.h>
 
 namespace talus {
 
@@ -47,48 +41,24 @@ std::array<double, 6> geotransform(const MapGrid& grid) {
           -grid.dy};
 }
 
-// GDAL's drivers, registered once.
-GDALDriver* gdal_driver(const char* name) {
-  static std::once_flag registered;
-  std::call_once(registered, [] { GDALAllRegister(); });
-  return GetGDALDriverManager()->GetDriverByName(name);
+// The grid as GDAL writes it: north up, the [terrain] origin added back.
+gdal::RasterGrid raster_grid(const MapGrid& grid) {
+  return {grid.nx, grid.ny, geotransform(grid), grid.crs};
 }
 
-// A new file among GDAL's in-memory files, removed when it goes out of scope. Maps are made
-// there, then written into the run folder atomically (GDAL's own file writing would bypass the
-// folder's anchor and leave a half-written file if the run were killed).
-struct MemoryFile {
-  explicit MemoryFile(const char* extension) {
-    static std::atomic<int> serial{0};
-    name = fmt::format("/vsimem/talus_map_{}.{}", serial++, extension);
-  }
-  ~MemoryFile() { VSIUnlink(name.c_str()); } // gone already once its buffer is taken
-  MemoryFile(const MemoryFile&) = delete;
-  MemoryFile& operator=(const MemoryFile&) = delete;
-  std::string name;
-};
-
-// Closes a dataset, throwing if GDAL reports a failure while it finishes the file.
-void close_dataset(GDALDatasetUniquePtr& ds, const std::string& path, const char* what) {
-  CPLErrorReset();
-  GDALClose(GDALDataset::ToHandle(ds.release()));
-  if (CPLGetLastErrorType() == CE_Failure || CPLGetLastErrorType() == CE_Fatal)
-    throw OutputError(
-        fmt::format("{}: GDAL cannot finish the {}: {}", path, what, CPLGetLastErrorMsg()));
-}
-
-// Moves the closed in-memory file `mem` to `path` atomically; `what` names it in errors.
-void write_memory_file(const std::string& mem, const std::string& path, const char* what) {
-  vsi_l_offset size = 0;
-  GByte* bytes = VSIGetMemFileBuffer(mem.c_str(), &size, TRUE);
-  if (!bytes) throw OutputError(fmt::format("{}: GDAL made no {}", path, what));
+// GDAL's module, or an OutputError naming the map that needed it.
+const gdal::Module& gdal_for(const std::string& path) {
   try {
-    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes), size));
-  } catch (...) {
-    CPLFree(bytes);
-    throw;
+    return gdal::module();
+  } catch (const std::runtime_error& e) {
+    throw OutputError(fmt::format("{}: {}", path, e.what()));
   }
-  CPLFree(bytes);
+}
+
+// Writes a map GDAL made in memory to `path` atomically, or throws GDAL's reason.
+void write_made(const gdal::Made& made, const std::string& path) {
+  if (!made.error.empty()) throw OutputError(fmt::format("{}: {}", path, made.error));
+  write_file_atomic(path, made.bytes);
 }
 
 } // namespace
@@ -96,77 +66,29 @@ void write_memory_file(const std::string& mem, const std::string& path, const ch
 void write_geotiff(const std::string& path, const MapGrid& grid,
                    const std::vector<MapLayer>& layers,
                    const std::vector<std::pair<std::string, std::string>>& metadata) {
-  GDALDriver* driver = gdal_driver("GTiff");
-  if (!driver) throw OutputError(fmt::format("{}: GDAL has no GeoTIFF driver", path));
-  const MemoryFile mem("tif");
-  CPLStringList options;
-  options.SetNameValue("COMPRESS", "DEFLATE");
-  options.SetNameValue("PREDICTOR", "3");
-  {
-    GDALDatasetUniquePtr ds(driver->Create(mem.name.c_str(), grid.nx, grid.ny,
-                                           static_cast<int>(layers.size()), GDT_Float32,
-                                           options.List()));
-    if (!ds) throw OutputError(fmt::format("{}: GDAL cannot make the GeoTIFF", path));
-    std::array<double, 6> gt = geotransform(grid);
-    ds->SetGeoTransform(gt.data());
-    if (!grid.crs.empty()) ds->SetProjection(grid.crs.c_str());
-    for (const auto& [key, value] : metadata)
-      ds->SetMetadataItem(key.c_str(), value.c_str());
-    std::vector<float> rows(grid.cells());
-    for (std::size_t k = 0; k < layers.size(); ++k) {
-      const MapLayer& L = layers[k];
-      for (int j = 0; j < grid.ny; ++j)
-        for (int i = 0; i < grid.nx; ++i) {
-          const double v = L.values[static_cast<std::size_t>(j) * grid.nx + i];
-          rows[static_cast<std::size_t>(grid.ny - 1 - j) * grid.nx + i] =
-              static_cast<float>(std::isnan(v) ? no_data : v);
-        }
-      GDALRasterBand* band = ds->GetRasterBand(static_cast<int>(k) + 1);
-      band->SetNoDataValue(no_data);
-      band->SetDescription(L.name.c_str());
-      band->SetUnitType(L.unit.c_str());
-      band->SetMetadataItem("DESCRIPTION", L.description.c_str());
-      if (band->RasterIO(GF_Write, 0, 0, grid.nx, grid.ny, rows.data(), grid.nx, grid.ny,
-                         GDT_Float32, 0, 0) != CE_None)
-        throw OutputError(fmt::format("{}: GDAL cannot write band {}", path, k + 1));
-    }
-    close_dataset(ds, path, "GeoTIFF");
+  // Rows in file order, the northern first; NaN written as the no-data value.
+  std::vector<gdal::Band> bands;
+  for (const MapLayer& L : layers) {
+    gdal::Band& b = bands.emplace_back(gdal::Band{L.name, L.unit, L.description, {}});
+    b.rows.resize(grid.cells());
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < grid.nx; ++i) {
+        const double v = L.values[static_cast<std::size_t>(j) * grid.nx + i];
+        b.rows[static_cast<std::size_t>(grid.ny - 1 - j) * grid.nx + i] =
+            static_cast<float>(std::isnan(v) ? no_data : v);
+      }
   }
-  write_memory_file(mem.name, path, "GeoTIFF");
+  write_made(gdal_for(path).geotiff(raster_grid(grid), bands, metadata, no_data), path);
 }
 
 void write_outline(const std::string& path, const MapGrid& grid, const std::vector<char>& inside,
                    const std::string& name) {
-  GDALDriver* mem = gdal_driver("MEM");
-  GDALDriver* json = gdal_driver("GeoJSON");
-  if (!mem || !json) throw OutputError(fmt::format("{}: GDAL has no GeoJSON driver", path));
-  const MemoryFile vmem("geojson");
-  {
-    GDALDatasetUniquePtr mask(mem->Create("", grid.nx, grid.ny, 1, GDT_Byte, nullptr));
-    if (!mask) throw OutputError(fmt::format("{}: GDAL cannot make the outline's mask", path));
-    std::array<double, 6> gt = geotransform(grid);
-    mask->SetGeoTransform(gt.data());
-    std::vector<GByte> rows(grid.cells());
-    for (int j = 0; j < grid.ny; ++j)
-      for (int i = 0; i < grid.nx; ++i)
-        rows[static_cast<std::size_t>(grid.ny - 1 - j) * grid.nx + i] =
-            inside[static_cast<std::size_t>(j) * grid.nx + i] ? 1 : 0;
-    GDALRasterBand* band = mask->GetRasterBand(1);
-    if (band->RasterIO(GF_Write, 0, 0, grid.nx, grid.ny, rows.data(), grid.nx, grid.ny, GDT_Byte, 0,
-                       0) != CE_None)
-      throw OutputError(fmt::format("{}: GDAL cannot hold the outline's cells", path));
-    GDALDatasetUniquePtr out(json->Create(vmem.name.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
-    if (!out) throw OutputError(fmt::format("{}: GDAL cannot make the GeoJSON", path));
-    OGRSpatialReference srs;
-    const bool has_crs = !grid.crs.empty() && srs.importFromWkt(grid.crs.c_str()) == OGRERR_NONE;
-    OGRLayer* layer = out->CreateLayer(name.c_str(), has_crs ? &srs : nullptr, wkbPolygon, nullptr);
-    OGRFieldDefn field("inside", OFTInteger);
-    if (!layer || layer->CreateField(&field) != OGRERR_NONE ||
-        GDALPolygonize(band, band, layer, 0, nullptr, nullptr, nullptr) != CE_None)
-      throw OutputError(fmt::format("{}: GDAL cannot trace the outline", path));
-    close_dataset(out, path, "GeoJSON");
-  }
-  write_memory_file(vmem.name, path, "GeoJSON");
+  std::vector<unsigned char> rows(grid.cells());
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i)
+      rows[static_cast<std::size_t>(grid.ny - 1 - j) * grid.nx + i] =
+          inside[static_cast<std::size_t>(j) * grid.nx + i] ? 1 : 0;
+  write_made(gdal_for(path).outline(raster_grid(grid), rows, name), path);
 }
 
 double intensity_class(double h, double v, const MapsSettings& m) {

@@ -366,6 +366,9 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
   edit("ten.asc", "typo_first.asc", "ncols", "ncolls");
   edit("ten.asc", "short_header.asc", "ncols 10\nnrows 10\n", "ncols 5\nnrows 5\n");
   edit("ten.asc", "twice.asc", "nrows 10\n", "nrows 10\nncols 10\n");
+  // A header of 30,000 x 30,000 cells over 100 values: refused from its header, before the
+  // 7.2 GB its values would take are asked for.
+  edit("ten.asc", "huge_header.asc", "ncols 10\nnrows 10\n", "ncols 30000\nnrows 30000\n");
   edit("ten.asc", "fraction.asc", "ncols 10\n", "ncols 10.5\n");
   write_asc(dir + "/high.asc", 40, 30, 0.0, 0.0, 1.0, flat(30.0));
   {
@@ -406,6 +409,9 @@ TEST(Terrain, InputErrorsAreRefusedNamingTheFileAndTheProblem) {
                  {"typo_first.asc:1: 'ncolls' is not a key", "terrain.top"});
   expect_refused(terrain(fmt::format("top = '{0}/short_header.asc', bottom = 2.0", dir)),
                  {"short_header.asc", "header says 5 x 5 cells (25 values)",
+                  "holds 100 values after the header"});
+  expect_refused(terrain(fmt::format("top = '{0}/huge_header.asc', bottom = 2.0", dir)),
+                 {"huge_header.asc", "header says 30000 x 30000 cells (900000000 values)",
                   "holds 100 values after the header"});
   expect_refused(terrain(fmt::format("top = '{0}/twice.asc', bottom = 2.0", dir)),
                  {"twice.asc:3: 'ncols' is given twice"});
