@@ -32,12 +32,16 @@ int available_threads() {
 }
 
 void share_cores(char** argv) {
+#ifdef _OPENMP
   if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;
   if (setenv("OMP_WAIT_POLICY", "passive", 1) != 0) return;
   // The program's own path, not /proc/self/exe, so that ps and pgrep still name it talus.
   char self[4096] = {};
   const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
   execv(n > 0 ? self : "/proc/self/exe", argv); // returns only on failure: carry on as we are
+#else
+  (void)argv; // without OpenMP no thread waits: the program need not start again
+#endif
 }
 
 int set_threads(int requested, std::size_t particles) {

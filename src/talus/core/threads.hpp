@@ -12,7 +12,7 @@ constexpr std::size_t particles_per_thread = 25000;
 // Makes OpenMP's waiting threads sleep at once (OMP_WAIT_POLICY=passive) unless the user chose a
 // policy (OMP_WAIT_POLICY or GOMP_SPINCOUNT set). libgomp reads the policy once, when it loads,
 // so the program executes itself again with it set; call it first in main(). If that fails the
-// program goes on with the default policy.
+// program goes on with the default policy. Without OpenMP it does nothing.
 void share_cores(char** argv);
 
 // The threads OpenMP would use when the program started: OMP_NUM_THREADS, or the cores it may
