@@ -32,7 +32,8 @@ const Module& module() {
         why += "\n  " + place + ": " + (e ? e : "cannot be loaded");
         continue;
       }
-      auto entry = reinterpret_cast<decltype(&talus_gdal_module)>(dlsym(handle, "talus_gdal_module"));
+      auto entry =
+          reinterpret_cast<decltype(&talus_gdal_module)>(dlsym(handle, "talus_gdal_module"));
       if (!entry) {
         why += "\n  " + place + ": has no talus_gdal_module";
         dlclose(handle);

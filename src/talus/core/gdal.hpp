@@ -71,8 +71,7 @@ struct Module {
   std::string (*crs_name)(const std::string& wkt);
   // A DEFLATE-compressed GeoTIFF, one Float32 band each, `no_data` marking missing values.
   Made (*geotiff)(const RasterGrid& grid, const std::vector<Band>& bands,
-                  const std::vector<std::pair<std::string, std::string>>& metadata,
-                  double no_data);
+                  const std::vector<std::pair<std::string, std::string>>& metadata, double no_data);
   // GeoJSON polygons around the cells that are nonzero in `inside` (rows in file order), a layer
   // `layer` with one integer field "inside".
   Made (*outline)(const RasterGrid& grid, const std::vector<unsigned char>& inside,

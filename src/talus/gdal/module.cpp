@@ -61,8 +61,8 @@ RasterFile read_raster(const std::string& path, bool values) {
     if (!values || r.bands < 1 || r.nx < 2 || r.ny < 2) return r;
     GDALRasterBand* band = ds->GetRasterBand(1);
     r.values.resize(static_cast<std::size_t>(r.nx) * r.ny);
-    if (band->RasterIO(GF_Read, 0, 0, r.nx, r.ny, r.values.data(), r.nx, r.ny, GDT_Float64, 0,
-                       0) != CE_None) {
+    if (band->RasterIO(GF_Read, 0, 0, r.nx, r.ny, r.values.data(), r.nx, r.ny, GDT_Float64, 0, 0) !=
+        CE_None) {
       r.error = Quiet::last();
       r.values.clear();
       return r;
