@@ -2,7 +2,8 @@
 # Fails if clang-format would change any C++ source (run with --fix to format in place).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-files=$(git ls-files '*.cpp' '*.hpp' '*.h')
+# Tracked files and new ones not yet added (git's ignore rules keep build/ out).
+files=$(git ls-files --cached --others --exclude-standard '*.cpp' '*.hpp' '*.h')
 if [ "${1:-}" = "--fix" ]; then
   clang-format -i $files
   exit 0
