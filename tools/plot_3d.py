@@ -14,15 +14,14 @@ Usage: plot_3d.py RUN_DIR [--times T ...] [--out DIR] [--every N] [--cut AXIS=VA
 """
 import argparse
 import tomllib
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import meshio  # noqa: E402
 import numpy as np  # noqa: E402
+import talus_frames  # noqa: E402
 
 ap = argparse.ArgumentParser()
 ap.add_argument("run")
@@ -36,8 +35,7 @@ a = ap.parse_args()
 run = Path(a.run)
 out = Path(a.out) if a.out else run / "plots"
 out.mkdir(parents=True, exist_ok=True)
-frames = [(float(e.get("timestep")), e.get("file"))
-          for e in ET.parse(run / "particles.pvd").getroot().iter("DataSet")]
+frames = talus_frames.times(run)
 case = tomllib.loads((run / "case_as_run.toml").read_text())
 rigid = {i for i, b in enumerate(case["body"]) if b.get("rigid", False)}
 names = [b["name"] for b in case["body"]]
@@ -45,8 +43,7 @@ lake = names.index(a.lake) if a.lake in names else None
 
 
 def frame(t):
-    tf, f = min(frames, key=lambda fr: abs(fr[0] - t))
-    return tf, meshio.read(run / f)
+    return talus_frames.nearest(run, t, frames)
 
 
 shots = [frame(t) for t in a.times]
@@ -111,7 +108,7 @@ if lake is not None:
     series = {f: [] for f in faces}
     times, total = [], None
     for t, f in frames:
-        m = meshio.read(run / f)
+        m = talus_frames.read(run, f)
         if "mass" not in m.point_data or "volume" not in m.point_data:
             raise SystemExit(f"plot_3d.py: {f} lacks the mass or volume field ([output] fields)")
         w = m.point_data["body"].ravel().astype(int) == lake

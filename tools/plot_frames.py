@@ -6,15 +6,14 @@ Usage: plot_frames.py RUN_DIR OUT.png --times 0.31 0.74 0.97 [--rotate DEG] [--t
 the slope, as it stands in the world).
 """
 import argparse
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
-import meshio
 import numpy as np
+import talus_frames
 
 ap = argparse.ArgumentParser()
 ap.add_argument("run")
@@ -24,16 +23,14 @@ ap.add_argument("--rotate", type=float, default=0.0)
 ap.add_argument("--title", default="")
 a = ap.parse_args()
 run = Path(a.run)
-frames = [(float(e.get("timestep")), e.get("file"))
-          for e in ET.parse(run / "particles.pvd").getroot().iter("DataSet")]
+frames = talus_frames.times(run)
 c, s = np.cos(np.radians(a.rotate)), np.sin(np.radians(a.rotate))
 R = np.array([[c, -s], [s, c]])
 fig, axes = plt.subplots(1, len(a.times), figsize=(4.2 * len(a.times), 4.2), squeeze=False)
 colours = ["#9e9e9e", "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd"]
 limits = None
 for ax, t in zip(axes[0], a.times):
-    tf, f = min(frames, key=lambda fr: abs(fr[0] - t))
-    m = meshio.read(run / f)
+    tf, m = talus_frames.nearest(run, t, frames)
     x = m.points[:, :2] @ R.T
     body = m.point_data["body"].ravel().astype(int)
     if limits is None:

@@ -9,7 +9,6 @@ import csv
 import os
 import sys
 import tomllib
-import xml.etree.ElementTree as ET
 from collections import defaultdict
 
 import matplotlib
@@ -17,6 +16,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import talus_frames  # noqa: E402
 
 
 def read_csv(path):
@@ -102,9 +102,7 @@ def plot_snapshots(run, out, field, count, log=False):
     pvd = os.path.join(run, "particles.pvd")
     if not os.path.exists(pvd):
         return
-    import meshio
-
-    frames = ET.parse(pvd).getroot().findall(".//DataSet")
+    frames = talus_frames.times(run)
     if not frames:
         return
     if count == 1:  # one snapshot: the final state
@@ -113,10 +111,10 @@ def plot_snapshots(run, out, field, count, log=False):
         picks = sorted(set(np.linspace(0, len(frames) - 1, min(count, len(frames))).round().astype(int)))
     names = body_names(run)
     for i in picks:
-        f = frames[i]
-        mesh = meshio.read(os.path.join(run, f.get("file")))
+        t, files = frames[i]
+        mesh = talus_frames.read(run, files)
         if field not in available_fields(mesh):
-            print(f"error: no field '{field}' in {f.get('file')}; the fields are: "
+            print(f"error: no field '{field}' in {', '.join(files)}; the fields are: "
                   + ", ".join(available_fields(mesh)), file=sys.stderr)
             sys.exit(2)
         fig, ax = plt.subplots(figsize=(8, 5))
@@ -139,7 +137,7 @@ def plot_snapshots(run, out, field, count, log=False):
         ax.set_aspect("equal")
         ax.set_xlabel("x (m)")
         ax.set_ylabel("y (m)")
-        ax.set_title(f"t = {float(f.get('timestep')):.3g} s")
+        ax.set_title(f"t = {t:.3g} s")
         save(fig, os.path.join(out, f"snapshot_{field}_{i:04d}.png"))
 
 

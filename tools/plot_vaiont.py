@@ -19,15 +19,14 @@ import argparse
 import csv
 import json
 import tomllib
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import meshio  # noqa: E402
 import numpy as np  # noqa: E402
+import talus_frames  # noqa: E402
 
 ap = argparse.ArgumentParser()
 ap.add_argument("run")
@@ -47,8 +46,7 @@ case = tomllib.loads((run / "case_as_run.toml").read_text())
 a.body = a.body or case.get("results", {}).get("body", "slide")
 out = Path(a.out) if a.out else run / "plots"
 out.mkdir(parents=True, exist_ok=True)
-frames = [(float(e.get("timestep")), e.get("file"))
-          for e in ET.parse(run / "particles.pvd").getroot().iter("DataSet")]
+frames = talus_frames.times(run)
 section = {}
 with open(a.section) as f:
     for r in csv.DictReader(f):
@@ -58,8 +56,7 @@ colours = np.array(["#8c564b", "#9e9e9e", "#2ca02c", "#1f77b4", "#ff7f0e", "#946
 
 
 def frame(t):
-    tf, f = min(frames, key=lambda fr: abs(fr[0] - t))
-    return tf, meshio.read(run / f)
+    return talus_frames.nearest(run, t, frames)
 
 
 # Bodies and plastic strain at the paper's times.
@@ -177,7 +174,7 @@ if a.lake in body_names:
         best = (probe["elevation_m"], probe["time_s"])
     else:
         for t, f in frames:
-            m = meshio.read(run / f)
+            m = talus_frames.read(run, f)
             w = m.points[m.point_data["body"].ravel().astype(int) == lake, :2]
             north = w[w[:, 0] > foot]
             if len(north) and north[:, 1].max() > best[0]:

@@ -33,7 +33,6 @@ import subprocess
 import sys
 import time
 import tomllib
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import matplotlib
@@ -41,6 +40,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import talus_frames  # noqa: E402
 
 
 def read_csv(path):
@@ -136,13 +136,10 @@ class Run:
         return float(vs[i])
 
     def frame(self, t):
-        import meshio
-        frames = [(float(e.get("timestep")), e.get("file"))
-                  for e in ET.parse(self.dir / "particles.pvd").getroot().iter("DataSet")]
-        tf, f = min(frames, key=lambda fr: abs(fr[0] - t))
+        tf, files = min(talus_frames.times(self.dir), key=lambda fr: abs(fr[0] - t))
         if abs(tf - t) > 1e-6 * max(1.0, t):
             raise ValueError(f"no particle frame at t = {t} (nearest {tf})")
-        return meshio.read(self.dir / f)
+        return talus_frames.read(self.dir, files)
 
     def extent_value(self, check):
         """extent.BODY.x_max (y_min, ...): the extreme particle position of a body."""
@@ -155,12 +152,9 @@ class Run:
         return float(x[:, axis].max() if which.endswith("max") else x[:, axis].min())
 
     def particle_value(self, check):
-        import meshio
-        frames = [(float(e.get("timestep")), e.get("file"))
-                  for e in ET.parse(self.dir / "particles.pvd").getroot().iter("DataSet")]
+        frames = talus_frames.times(self.dir)
         t = check.get("time", frames[-1][0])
-        tf, f = min(frames, key=lambda fr: abs(fr[0] - t))
-        m = meshio.read(self.dir / f)
+        tf, m = talus_frames.nearest(self.dir, t, frames)
         field = check["quantity"].split(".")[1]
         name, _, comp = field.rpartition("_")
         comps = {"stress": ["xx", "yy", "zz", "xy", "yz", "xz"], "velocity": ["x", "y", "z"],

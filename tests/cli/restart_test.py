@@ -2,7 +2,8 @@
 """Exact restart: a run stopped by SIGINT, SIGTERM or kill -9 (at steps chosen in the settling
 phase and in the run proper, between checkpoints) and restarted with `talus run --restart`
 must leave a run folder identical to a run that was never stopped: every CSV, every VTU frame
-and the ParaView series byte for byte, and the same results in summary.json. The interrupted and
+and the ParaView series byte for byte, and the same results in summary.json; also for a case
+whose fixed body is written once (particles_fixed.vtu). The interrupted and
 restarted runs use 1 and 2 threads crosswise, so this also checks the deterministic scatter.
 
 The faults are injected with TALUS_INJECT_SIGNAL=SIGNAL:STEP, which makes the program raise the
@@ -116,6 +117,29 @@ for label, sig, step, t1, t2 in plan:
     if code != 0:
         failures.append(f"{label}: restart failed ({code}): {err.strip()}")
         continue
+    compare(ref, out, label)
+
+# A case with a fixed body (the rigid boundary) writes it once, into particles_fixed.vtu at its
+# first frame; a restart continues the folder without writing it again, and the folder is the
+# uninterrupted run's.
+case = source / "cases/vaiont/rigid_boundary.toml"
+ref = fresh("fixed_reference")
+code, err = run(case_args(ref), 2)
+assert code == 0, f"fixed-body reference run failed ({code}): {err}"
+total = json.loads((ref / "summary.json").read_text())["steps"]
+if not (ref / "particles_fixed.vtu").is_file():
+    failures.append("fixed_reference: no particles_fixed.vtu")
+for label, sig, step, t1, t2 in [("fixed_sigterm", signal.SIGTERM, total // 2, 2, 1),
+                                 ("fixed_kill9", signal.SIGKILL, (3 * total) // 4, 1, 2)]:
+    out = fresh(label)
+    run(case_args(out), t1, (sig, step))
+    written = (out / "particles_fixed.vtu").stat().st_mtime_ns
+    code, err = run(["--restart", str(out)], t2)
+    if code != 0:
+        failures.append(f"{label}: restart failed ({code}): {err.strip()}")
+        continue
+    if (out / "particles_fixed.vtu").stat().st_mtime_ns != written:
+        failures.append(f"{label}: the restart wrote particles_fixed.vtu again")
     compare(ref, out, label)
 
 code, err = run(["--restart", str(work / "no_such_run")], 1)

@@ -214,7 +214,15 @@ RunPlan plan_run(const Case& c, const std::vector<std::size_t>& particles,
                std::ceil(c.initial_state.settle_time / settle_dt);
   plan.memory_bytes = estimate_memory(c, particles);
   plan.frame_bytes = frame_bytes_per_particle(c);
-  plan.output_bytes = plan.frames * static_cast<double>(plan.particles) * plan.frame_bytes;
+  // Fixed bodies (rigid, at rest) beside others are written once (RunWriter::frame_parts).
+  double fixed = 0.0;
+  for (std::size_t b = 0; b < c.bodies.size(); ++b)
+    if (c.bodies[b].rigid && c.bodies[b].velocity == Vec3a{0.0, 0.0, 0.0})
+      fixed += static_cast<double>(particles[b]);
+  if (fixed == static_cast<double>(plan.particles)) fixed = 0.0;
+  plan.output_bytes = (plan.frames * (static_cast<double>(plan.particles) - fixed) +
+                       std::min(plan.frames, 1.0) * fixed) *
+                      plan.frame_bytes;
   // The free space where the run folder goes: its nearest folder that exists.
   std::error_code ec;
   std::filesystem::path where = std::filesystem::absolute(out_dir.empty() ? "." : out_dir, ec);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <functional>
+#include <utility>
 #include <vector>
 
 namespace talus {
@@ -16,12 +17,26 @@ class ParticleOrder {
 public:
   using Fill = std::function<void(std::size_t p, char* out)>; // particle p's `width` bytes
   using Take = std::function<void(const char* data, std::size_t count)>;
+  // Runs [begin, end) of the order's indices, ascending and disjoint (a body's particles are one
+  // run: Particles::body_begin).
+  using Spans = std::vector<std::pair<std::size_t, std::size_t>>;
   virtual ~ParticleOrder() = default;
   virtual std::size_t total() const = 0; // the whole case's particles
   virtual bool receives() const = 0;     // whether take() is called on this process
-  // Collective: fill() for each of this process's own particles; take() where receives(), with
-  // the values of consecutive runs of particles, all of them in order.
-  virtual void gather(std::size_t width, const Fill& fill, const Take& take) = 0;
+  // Collective: fill() for each of this process's own particles in `spans`; take() where
+  // receives(), with the values of consecutive runs of them, all of them in order.
+  virtual void gather(std::size_t width, const Fill& fill, const Take& take,
+                      const Spans& spans) = 0;
+  // The same over every particle.
+  void gather(std::size_t width, const Fill& fill, const Take& take) {
+    gather(width, fill, take, Spans{{0, total()}});
+  }
+  static std::size_t count(const Spans& spans) {
+    std::size_t n = 0;
+    for (const auto& [begin, end] : spans)
+      n += end - begin;
+    return n;
+  }
 };
 
 // One process: particles [0, n) in their order.
@@ -30,16 +45,18 @@ public:
   explicit LocalOrder(std::size_t n) : n_(n) {}
   std::size_t total() const override { return n_; }
   bool receives() const override { return true; }
-  void gather(std::size_t width, const Fill& fill, const Take& take) override {
+  using ParticleOrder::gather;
+  void gather(std::size_t width, const Fill& fill, const Take& take, const Spans& spans) override {
     const std::size_t chunk = std::clamp<std::size_t>(
         (std::size_t{4} << 20) / std::max<std::size_t>(width, 1), 1, std::max<std::size_t>(n_, 1));
     std::vector<char> buf(chunk * width);
-    for (std::size_t at = 0; at < n_; at += chunk) {
-      const std::size_t count = std::min(chunk, n_ - at);
-      for (std::size_t k = 0; k < count; ++k)
-        fill(at + k, buf.data() + k * width);
-      take(buf.data(), count);
-    }
+    for (const auto& [begin, end] : spans)
+      for (std::size_t at = begin; at < end; at += chunk) {
+        const std::size_t count = std::min(chunk, end - at);
+        for (std::size_t k = 0; k < count; ++k)
+          fill(at + k, buf.data() + k * width);
+        take(buf.data(), count);
+      }
   }
 
 private:

@@ -48,9 +48,10 @@ bool numbered(std::string_view name, std::string_view prefix, std::string_view e
 // A regular file (not a link) directly in the run folder that talus writes.
 bool talus_file(std::string_view name) {
   name = without_temporary(name);
-  for (const char* own : {run_folder_marker, "case.toml", "case_as_run.toml", "legend.json",
-                          "summary.json", "energy.csv", "bodies.csv", "probes.csv", "waves.csv",
-                          "contacts.csv", "interfaces.csv", "particles.pvd", "contact_nodes.pvd"})
+  for (const char* own :
+       {run_folder_marker, "case.toml", "case_as_run.toml", "legend.json", "summary.json",
+        "energy.csv", "bodies.csv", "probes.csv", "waves.csv", "contacts.csv", "interfaces.csv",
+        "particles.pvd", "contact_nodes.pvd", "particles_fixed.vtu"})
     if (name == own) return true;
   return numbered(name, "particles_", ".vtu") || numbered(name, "contact_nodes_", ".vtu");
 }

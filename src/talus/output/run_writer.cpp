@@ -103,7 +103,8 @@ std::string legend_presets(const Case& c) {
 template <int D>
 RunWriter<D>::RunWriter(std::string dir, const Simulation<D>& sim,
                         std::vector<std::uint32_t> probe_ids)
-    : dir_(std::move(dir)), probe_ids_(std::move(probe_ids)) {
+    : dir_(std::move(dir)), split_(!frame_parts(sim).fixed.empty()),
+      probe_ids_(std::move(probe_ids)) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec)
@@ -180,13 +181,32 @@ void RunWriter<D>::write_rows(const Simulation<D>& sim, const FrameTotals<D>& to
 }
 
 template <int D>
+typename RunWriter<D>::FrameParts RunWriter<D>::frame_parts(const Simulation<D>& sim) {
+  FrameParts parts;
+  std::size_t at = 0;
+  for (int b = 0; b < sim.num_bodies(); ++b) {
+    const std::size_t end = at + sim.body_particles(b);
+    auto& spans = sim.setup().bodies[b].fixed ? parts.fixed : parts.moving;
+    if (end > at) {
+      if (!spans.empty() && spans.back().second == at)
+        spans.back().second = end; // bodies side by side: one span
+      else
+        spans.emplace_back(at, end);
+    }
+    at = end;
+  }
+  if (parts.moving.empty() || parts.fixed.empty()) parts = FrameParts{{{0, at}}, {}};
+  return parts;
+}
+
+template <int D>
 std::string RunWriter<D>::next_particle_frame() const {
   return dir_ + "/" + fmt::format("particles_{:06d}.vtu", frames_.size());
 }
 
 template <int D>
 void RunWriter<D>::write_particles(const std::string& path, const Simulation<D>& sim,
-                                   ParticleOrder& order) {
+                                   ParticleOrder& order, const ParticleOrder::Spans& spans) {
   const Case& c = sim.case_();
   std::vector<int> mats;
   for (const BodySpec& b : c.bodies)
@@ -199,8 +219,8 @@ void RunWriter<D>::write_particles(const std::string& path, const Simulation<D>&
     extra.emplace_back("band_temperature", [&](std::size_t p) { return band_temperature(sim, p); });
   write_particles_vtu<D>(
       path, sim.particles(), mats,
-      VtuFields{c.output.fields, c.output.float64_fields, frame_float32_positions(c)}, extra,
-      order);
+      VtuFields{c.output.fields, c.output.float64_fields, frame_float32_positions(c)}, extra, order,
+      spans);
 }
 
 template <int D>
@@ -222,6 +242,9 @@ void RunWriter<D>::write_frame(const Simulation<D>& sim, const FrameTotals<D>& t
 template <int D>
 std::vector<std::string> RunWriter<D>::missing_frames() const {
   std::vector<std::string> missing;
+  std::error_code ec;
+  if (split_ && !frames_.empty() && !std::filesystem::is_regular_file(dir_ + "/" + fixed_part, ec))
+    missing.emplace_back(fixed_part);
   for (const auto* list : {&frames_, &contact_frames_})
     for (const auto& [t, name] : *list) {
       std::error_code ec;
@@ -234,7 +257,9 @@ template <int D>
 void RunWriter<D>::write_tables(const Simulation<D>& sim) const {
   const Case& c = sim.case_();
   const int B = sim.num_bodies();
-  if (c.output.particles) write_file_atomic(dir_ + "/particles.pvd", pvd_collection(frames_));
+  if (c.output.particles)
+    write_file_atomic(dir_ + "/particles.pvd",
+                      pvd_collection(frames_, split_ ? fixed_part : std::string()));
   if (c.output.contact_nodes)
     write_file_atomic(dir_ + "/contact_nodes.pvd", pvd_collection(contact_frames_));
   write_file_atomic(dir_ + "/energy.csv", energy_);

@@ -32,9 +32,19 @@ public:
   // processes that do not write). Then write_frame() appends a row to the CSVs, lists the frame
   // in particles.pvd and, if enabled, writes contact_nodes_NNNNNN.vtu and contact_nodes.pvd
   // (the last step's nodal contact forces: `contact_nodes`, every process's).
+  //
+  // A case with fixed bodies (rigid, at rest: nothing a frame shows of them changes) beside
+  // others writes the fixed bodies' particles once, into `fixed_part` at its first frame, and the
+  // others at every frame; particles.pvd lists both parts at each time. Otherwise a frame is one
+  // part, every particle.
+  struct FrameParts {
+    ParticleOrder::Spans moving, fixed; // fixed: empty if the frames are not split
+  };
+  static FrameParts frame_parts(const Simulation<D>& sim);
+  static constexpr const char* fixed_part = "particles_fixed.vtu";
   std::string next_particle_frame() const;
   static void write_particles(const std::string& path, const Simulation<D>& sim,
-                              ParticleOrder& order);
+                              ParticleOrder& order, const ParticleOrder::Spans& spans);
   void write_frame(const Simulation<D>& sim, const FrameTotals<D>& totals,
                    const std::vector<ContactNodeForce<D>>& contact_nodes);
   // summary.json with the run's status ("completed", "failed", "interrupted").
@@ -64,6 +74,7 @@ private:
   void write_rows(const Simulation<D>& sim, const FrameTotals<D>& totals); // a row in each CSV
 
   std::string dir_;
+  bool split_ = false; // the frames are in two parts (frame_parts)
   std::vector<std::uint32_t> probe_ids_;
   std::string energy_, bodies_, probes_, contacts_, interfaces_, waves_;
   std::vector<std::pair<double, std::string>> frames_;

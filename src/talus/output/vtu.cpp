@@ -175,13 +175,14 @@ private:
 template <int D>
 void particle_arrays(VtuBuilder* out, const Particles<D>& P, const std::vector<int>& body_material,
                      const VtuFields& fields, const std::vector<ScalarField>& extra,
-                     ParticleOrder& order) {
-  const std::size_t n = order.total();
+                     ParticleOrder& order, const ParticleOrder::Spans& spans) {
+  const std::size_t n = ParticleOrder::count(spans);
   auto column = [&](const char* type, const std::string& name, int components, std::size_t width,
                     const ParticleOrder::Fill& fill) {
     if (out) out->begin(type, name, components, width * n);
-    order.gather(width, fill,
-                 [&](const char* data, std::size_t count) { out->append(data, count * width); });
+    order.gather(
+        width, fill, [&](const char* data, std::size_t count) { out->append(data, count * width); },
+        spans);
     if (out) out->end();
   };
   // Doubles per particle as Float64 or, rounded, as Float32.
@@ -276,25 +277,28 @@ void particle_arrays(VtuBuilder* out, const Particles<D>& P, const std::vector<i
 
 template <int D>
 std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body_material,
-                             const VtuFields& fields, const std::vector<ScalarField>& extra) {
-  Appended data;
-  VtuBuilder out(P.size(), data);
+                             const VtuFields& fields, const std::vector<ScalarField>& extra,
+                             const ParticleOrder::Spans& spans) {
   LocalOrder order(P.size());
-  particle_arrays<D>(&out, P, body_material, fields, extra, order);
+  const ParticleOrder::Spans all = spans.empty() ? ParticleOrder::Spans{{0, P.size()}} : spans;
+  Appended data;
+  VtuBuilder out(ParticleOrder::count(all), data);
+  particle_arrays<D>(&out, P, body_material, fields, extra, order, all);
   return out.head() + data.memory() + VtuBuilder::tail;
 }
 
 template <int D>
 void write_particles_vtu(const std::string& path, const Particles<D>& P,
                          const std::vector<int>& body_material, const VtuFields& fields,
-                         const std::vector<ScalarField>& extra, ParticleOrder& order) {
+                         const std::vector<ScalarField>& extra, ParticleOrder& order,
+                         const ParticleOrder::Spans& spans) {
   if (!order.receives()) {
-    particle_arrays<D>(nullptr, P, body_material, fields, extra, order);
+    particle_arrays<D>(nullptr, P, body_material, fields, extra, order, spans);
     return;
   }
   Appended data(path + ".body.tmp");
-  VtuBuilder out(order.total(), data);
-  particle_arrays<D>(&out, P, body_material, fields, extra, order);
+  VtuBuilder out(ParticleOrder::count(spans), data);
+  particle_arrays<D>(&out, P, body_material, fields, extra, order, spans);
   if (!data.error().empty()) throw OutputError(path + ": " + data.error());
   AtomicFile file(path);
   file.write(out.head());
@@ -325,21 +329,26 @@ std::string vertices_to_vtu(const std::vector<double>& xyz, const std::vector<Vt
   return out.head() + data.memory() + VtuBuilder::tail;
 }
 
-std::string pvd_collection(const std::vector<std::pair<double, std::string>>& frames) {
+std::string pvd_collection(const std::vector<std::pair<double, std::string>>& frames,
+                           const std::string& fixed) {
   std::string out = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" "
                     "byte_order=\"LittleEndian\">\n  <Collection>\n";
-  for (const auto& [t, file] : frames)
+  for (const auto& [t, file] : frames) {
     out += fmt::format("    <DataSet timestep=\"{:.17g}\" part=\"0\" file=\"{}\"/>\n", t, file);
+    if (!fixed.empty())
+      out += fmt::format("    <DataSet timestep=\"{:.17g}\" part=\"1\" file=\"{}\"/>\n", t, fixed);
+  }
   out += "  </Collection>\n</VTKFile>\n";
   return out;
 }
 
 #define TALUS_INSTANTIATE(D)                                                                       \
   template std::string particles_to_vtu<D>(const Particles<D>&, const std::vector<int>&,           \
-                                           const VtuFields&, const std::vector<ScalarField>&);     \
-  template void write_particles_vtu<D>(const std::string&, const Particles<D>&,                    \
-                                       const std::vector<int>&, const VtuFields&,                  \
-                                       const std::vector<ScalarField>&, ParticleOrder&);
+                                           const VtuFields&, const std::vector<ScalarField>&,      \
+                                           const ParticleOrder::Spans&);                           \
+  template void write_particles_vtu<D>(                                                            \
+      const std::string&, const Particles<D>&, const std::vector<int>&, const VtuFields&,          \
+      const std::vector<ScalarField>&, ParticleOrder&, const ParticleOrder::Spans&);
 TALUS_INSTANTIATE(2)
 TALUS_INSTANTIATE(3)
 #undef TALUS_INSTANTIATE

@@ -26,19 +26,21 @@ struct VtuFields {
 // its value at particle p.
 using ScalarField = std::pair<std::string, std::function<double(std::size_t)>>;
 
-// The frame of P's particles in memory (one process).
+// The frame of P's particles in memory (one process): those in `spans` (empty: all).
 template <int D>
 std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body_material,
-                             const VtuFields& fields, const std::vector<ScalarField>& extra = {});
+                             const VtuFields& fields, const std::vector<ScalarField>& extra = {},
+                             const ParticleOrder::Spans& spans = {});
 
-// The frame written to `path` chunk by chunk, the particles in `order`'s order, with no more
-// than a few blocks of it in memory: collective, P being this process's particles (on several
-// processes, with ghosts that order's fill skips). Where order.receives(), the file is written
-// atomically; a failure there throws OutputError after every process has taken part.
+// The frame of the particles in `spans` of `order`'s order written to `path` chunk by chunk,
+// with no more than a few blocks of it in memory: collective, P being this process's particles
+// (on several processes, with ghosts that order's fill skips). Where order.receives(), the file
+// is written atomically; a failure there throws OutputError after every process has taken part.
 template <int D>
 void write_particles_vtu(const std::string& path, const Particles<D>& P,
                          const std::vector<int>& body_material, const VtuFields& fields,
-                         const std::vector<ScalarField>& extra, ParticleOrder& order);
+                         const std::vector<ScalarField>& extra, ParticleOrder& order,
+                         const ParticleOrder::Spans& spans);
 
 // Any point set as VTU vertices: positions (x, y, z per point) and named point arrays, each
 // Float64 (f64, if not empty) or Int32 (i32), `components` values per point.
@@ -50,7 +52,9 @@ struct VtuArray {
 };
 std::string vertices_to_vtu(const std::vector<double>& xyz, const std::vector<VtuArray>& arrays);
 
-// A .pvd collection of (time, file name) frames.
-std::string pvd_collection(const std::vector<std::pair<double, std::string>>& frames);
+// A .pvd collection of (time, file name) frames; `fixed`, if not empty, is a second part listed
+// at every time (the particles that never change, written once).
+std::string pvd_collection(const std::vector<std::pair<double, std::string>>& frames,
+                           const std::string& fixed = {});
 
 } // namespace talus

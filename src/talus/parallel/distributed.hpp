@@ -82,7 +82,8 @@ public:
   // ParticleOrder (output/particle_order.hpp): the own particles' values, to rank 0.
   std::size_t total() const override { return body_begin_.back(); }
   bool receives() const override { return rank_ == 0; }
-  void gather(std::size_t width, const Fill& fill, const Take& take) override;
+  using ParticleOrder::gather;
+  void gather(std::size_t width, const Fill& fill, const Take& take, const Spans& spans) override;
 
   int rank() const { return rank_; }
   int size() const { return size_; }

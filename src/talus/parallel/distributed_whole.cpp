@@ -56,29 +56,41 @@ std::vector<ContactNodeForce<D>> Distributed<D>::gather_contact_nodes() {
   return every;
 }
 
-// Per chunk of global indices, rank 0 receives every process's records (the index's offset in
-// the chunk, then its bytes) and places them: the chunk's values in one process's order.
+// Per chunk of the spans' positions, rank 0 receives every process's records (the position's
+// offset in the chunk, then its bytes) and places them: the chunk's values in one process's
+// order.
 template <int D>
-void Distributed<D>::gather(std::size_t width, const Fill& fill, const Take& take) {
-  const std::size_t n = body_begin_.back();
+void Distributed<D>::gather(std::size_t width, const Fill& fill, const Take& take,
+                            const Spans& spans) {
+  const std::size_t n = count(spans);
   const std::size_t chunk = std::clamp<std::size_t>((std::size_t{64} << 20) / (width + 4), 1,
                                                     std::max<std::size_t>(n, 1));
   std::vector<std::pair<std::uint32_t, std::uint32_t>> rows; // (global index, share row)
   for (std::size_t k = 0; k < share_own_.size(); ++k)
     if (share_own_[k]) rows.emplace_back(share_index_[k], static_cast<std::uint32_t>(k));
   std::sort(rows.begin(), rows.end());
+  // Each own particle in a span, at its position in the spans' concatenation.
+  std::vector<std::pair<std::size_t, std::uint32_t>> placed_rows; // (position, share row)
+  std::size_t skipped = 0, r = 0;
+  for (std::size_t s = 0; s < spans.size(); ++s) {
+    skipped += spans[s].first - (s == 0 ? 0 : spans[s - 1].second);
+    while (r < rows.size() && rows[r].first < spans[s].first)
+      ++r;
+    for (; r < rows.size() && rows[r].first < spans[s].second; ++r)
+      placed_rows.emplace_back(rows[r].first - skipped, rows[r].second);
+  }
   std::vector<char> mine, all, placed(rank_ == 0 ? chunk * width : 0);
   std::vector<int> counts(size_), at(size_);
   std::size_t next = 0;
   for (std::size_t g0 = 0; g0 < n; g0 += chunk) {
     const std::size_t g1 = std::min(n, g0 + chunk);
     mine.clear();
-    for (; next < rows.size() && rows[next].first < g1; ++next) {
-      const auto offset = static_cast<std::uint32_t>(rows[next].first - g0);
+    for (; next < placed_rows.size() && placed_rows[next].first < g1; ++next) {
+      const auto offset = static_cast<std::uint32_t>(placed_rows[next].first - g0);
       const std::size_t pos = mine.size();
       mine.resize(pos + 4 + width);
       std::memcpy(mine.data() + pos, &offset, 4);
-      fill(rows[next].second, mine.data() + pos + 4);
+      fill(placed_rows[next].second, mine.data() + pos + 4);
     }
     const int bytes = static_cast<int>(mine.size());
     MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);

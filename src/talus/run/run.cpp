@@ -98,6 +98,7 @@ public:
                 opt_.out_dir, gone.front(), gone.size()));
       });
       if (writer_) writer_->write_tables(sim_);
+      fixed_part_written_ = true;
       last_checkpoint_ = restored_from;
     } else if (c_.initial_state.settle_time > 0.0) {
       sim_.set_settling(true);
@@ -195,8 +196,15 @@ private:
     const std::vector<ContactNodeForce<D>> nodes = stepper_->contact_nodes();
     std::string error; // rank 0's, reported once every process has sent its particles
     if (c_.output.particles) try {
+        // The fixed bodies' part once, at the run folder's first frame (frame_parts).
+        const auto parts = RunWriter<D>::frame_parts(sim_);
+        if (!parts.fixed.empty() && !fixed_part_written_)
+          RunWriter<D>::write_particles(root_ ? writer_->dir() + "/" + RunWriter<D>::fixed_part
+                                              : std::string(),
+                                        sim_, stepper_->particle_order(), parts.fixed);
+        fixed_part_written_ = true;
         RunWriter<D>::write_particles(root_ ? writer_->next_particle_frame() : std::string(), sim_,
-                                      stepper_->particle_order());
+                                      stepper_->particle_order(), parts.moving);
       } catch (const OutputError& e) {
         error = e.what();
       }
@@ -465,6 +473,7 @@ private:
   double settle_ke_ = 0.0;
   double stepping_ = 0.0; // wall seconds inside step(), settling included
   std::int64_t frame_ = 1;
+  bool fixed_part_written_ = false; // a restart continues a folder that has it
   std::string last_checkpoint_;
   Clock::time_point wall0_{}; // the run's (this process's) start
   int threads_ = 1;

@@ -103,12 +103,14 @@ public:
   explicit OneByOne(std::size_t n) : n_(n) {}
   std::size_t total() const override { return n_; }
   bool receives() const override { return true; }
-  void gather(std::size_t width, const Fill& fill, const Take& take) override {
+  using ParticleOrder::gather;
+  void gather(std::size_t width, const Fill& fill, const Take& take, const Spans& spans) override {
     std::vector<char> one(width);
-    for (std::size_t p = 0; p < n_; ++p) {
-      fill(p, one.data());
-      take(one.data(), 1);
-    }
+    for (const auto& [begin, end] : spans)
+      for (std::size_t p = begin; p < end; ++p) {
+        fill(p, one.data());
+        take(one.data(), 1);
+      }
   }
 
 private:
@@ -132,13 +134,23 @@ TEST(Vtu, AFrameStreamedInPiecesIsTheFrameBuiltWhole) {
   const std::string whole = particles_to_vtu<3>(P, {1, 0}, VtuFields{}, extra);
   const std::string dir = test::temp_dir("vtu_stream");
   OneByOne order(n);
-  write_particles_vtu<3>(dir + "/f.vtu", P, {1, 0}, VtuFields{}, extra, order);
-  std::ifstream in(dir + "/f.vtu", std::ios::binary);
-  const std::string streamed((std::istreambuf_iterator<char>(in)), {});
+  write_particles_vtu<3>(dir + "/f.vtu", P, {1, 0}, VtuFields{}, extra, order, {{0, n}});
+  auto read = [&](const std::string& name) {
+    std::ifstream in(dir + "/" + name, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+  };
+  const std::string streamed = read("f.vtu");
   EXPECT_EQ(streamed.size(), whole.size());
   EXPECT_TRUE(streamed == whole);
   EXPECT_NE(whole.find("Name=\"pore_pressure\""), std::string::npos);
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
+  // A frame of some runs of the particles (a frame's parts): the same streamed and built whole,
+  // with only those particles.
+  const ParticleOrder::Spans spans{{10, 20}, {n / 2, n / 2 + 7}, {n - 3, n}};
+  write_particles_vtu<3>(dir + "/g.vtu", P, {1, 0}, VtuFields{}, extra, order, spans);
+  const std::string part = particles_to_vtu<3>(P, {1, 0}, VtuFields{}, extra, spans);
+  EXPECT_TRUE(read("g.vtu") == part);
+  EXPECT_NE(part.find("NumberOfPoints=\"20\""), std::string::npos);
 }
 
 TEST(Vtu, AFrameThatCannotBeWrittenIsAClearError) {
@@ -147,7 +159,7 @@ TEST(Vtu, AFrameThatCannotBeWrittenIsAClearError) {
   P.body_begin.push_back(1);
   LocalOrder order(1);
   try {
-    write_particles_vtu<2>("/nonexistent_dir/f.vtu", P, {0}, VtuFields{}, {}, order);
+    write_particles_vtu<2>("/nonexistent_dir/f.vtu", P, {0}, VtuFields{}, {}, order, {{0, 1}});
     FAIL();
   } catch (const OutputError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent_dir/f.vtu"), std::string::npos);
@@ -159,6 +171,16 @@ TEST(Pvd, ListsTheFramesInOrder) {
       pvd_collection({{0.0, "particles_000000.vtu"}, {0.5, "particles_000001.vtu"}});
   EXPECT_LT(pvd.find("particles_000000.vtu"), pvd.find("particles_000001.vtu"));
   EXPECT_NE(pvd.find("timestep=\"0.5\""), std::string::npos);
+  EXPECT_EQ(pvd.find("part=\"1\""), std::string::npos);
+  // With a part written once: listed at every time, after that time's own part.
+  const std::string two = pvd_collection(
+      {{0.0, "particles_000000.vtu"}, {0.5, "particles_000001.vtu"}}, "particles_fixed.vtu");
+  const std::string at_half =
+      "<DataSet timestep=\"0.5\" part=\"0\" file=\"particles_000001.vtu\"/>\n"
+      "    <DataSet timestep=\"0.5\" part=\"1\" file=\"particles_fixed.vtu\"/>";
+  EXPECT_NE(two.find(at_half), std::string::npos) << two;
+  EXPECT_NE(two.find("<DataSet timestep=\"0\" part=\"1\" file=\"particles_fixed.vtu\"/>"),
+            std::string::npos);
 }
 
 } // namespace

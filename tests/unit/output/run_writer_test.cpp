@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 using namespace talus;
@@ -60,6 +61,73 @@ cohesion = { initial = 0 }
   const std::string pvd = read(dir + "/particles.pvd");
   EXPECT_NE(pvd.find("particles_000000.vtu"), std::string::npos);
   EXPECT_NE(pvd.find("particles_000001.vtu"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+// A case with a fixed body (rigid, at rest) beside a moving one writes its frames in two parts:
+// the fixed body's particles once (RunWriter::frame_parts), listed at every time of
+// particles.pvd. What makes that lossless: the fixed part's bytes after 200 steps of the upper
+// block sliding on it (an interface, a water level: every field a frame can carry) are those
+// at the start. A case without fixed bodies keeps one part.
+TEST(RunWriter, FixedBodiesAreWrittenOnceAndNeverChange) {
+  const std::string dir = test::temp_dir("run_writer_fixed");
+  Simulation<2> sim(test::case_from(test::two_blocks(R"(
+[water]
+level = 0.5
+[[interface]]
+bodies = ["upper", "lower"]
+friction = { initial = 0.2 }
+cohesion = { initial = 0 }
+)",
+                                                     true),
+                                    {"simulation.gravity=[3.0,-9.81]"}));
+  const std::size_t lower = sim.body_particles(0), upper = sim.body_particles(1);
+  const auto parts = RunWriter<2>::frame_parts(sim);
+  EXPECT_EQ(parts.fixed, (ParticleOrder::Spans{{0, lower}}));
+  EXPECT_EQ(parts.moving, (ParticleOrder::Spans{{lower, lower + upper}}));
+  LocalOrder order(sim.particles().size());
+  auto part = [&](const ParticleOrder::Spans& spans) {
+    RunWriter<2>::write_particles(dir + "/part.vtu", sim, order, spans);
+    return read(dir + "/part.vtu");
+  };
+  const std::string moving0 = part(parts.moving);
+  RunWriter<2> writer(dir, sim, {});
+  writer.write_frame(sim, frame_totals(sim, {}), {});
+  EXPECT_EQ(writer.missing_frames(),
+            std::vector<std::string>({"particles_fixed.vtu", "particles_000000.vtu"}));
+  // The first step sorts each body's particles by cell: from then on the fixed part's bytes stand;
+  // before it, each particle (by id) already holds the values it keeps.
+  auto by_id = [&] {
+    const Particles<2>& P = sim.particles();
+    std::map<std::uint32_t, std::vector<double>> state;
+    for (std::size_t p = 0; p < lower; ++p) {
+      std::vector<double>& v = state[P.id[p]];
+      for (const double a :
+           {P.x[p][0], P.x[p][1], P.v[p][0], P.v[p][1], P.m[p], P.vol[p], P.eps_p[p], P.slip[p],
+            P.cohesion[p], P.friction[p], double(P.iface[p]), double(P.field[p])})
+        v.push_back(a);
+      v.insert(v.end(), P.stress[p].begin(), P.stress[p].end());
+    }
+    return state;
+  };
+  const auto state0 = by_id();
+  sim.step();
+  EXPECT_EQ(by_id(), state0);
+  const std::string fixed1 = part(parts.fixed);
+  for (int i = 0; i < 200; ++i)
+    sim.step();
+  EXPECT_TRUE(part(parts.fixed) == fixed1);
+  EXPECT_EQ(by_id(), state0);
+  EXPECT_FALSE(part(parts.moving) == moving0); // the upper block has moved
+  writer.write_frame(sim, frame_totals(sim, {}), {});
+  const std::string pvd = read(dir + "/particles.pvd");
+  EXPECT_EQ(std::count(pvd.begin(), pvd.end(), '\n'), 5 + 2 * 2) << pvd; // 2 times x 2 parts
+  EXPECT_NE(pvd.find("part=\"1\" file=\"particles_fixed.vtu\""), std::string::npos);
+
+  Simulation<2> loose(test::case_from(test::two_blocks()));
+  const auto one = RunWriter<2>::frame_parts(loose);
+  EXPECT_TRUE(one.fixed.empty());
+  EXPECT_EQ(one.moving, (ParticleOrder::Spans{{0, loose.particles().size()}}));
   std::filesystem::remove_all(dir);
 }
 
