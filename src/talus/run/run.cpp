@@ -98,7 +98,9 @@ public:
                 opt_.out_dir, gone.front(), gone.size()));
       });
       if (writer_) writer_->write_tables(sim_);
-      fixed_part_written_ = true;
+      // Output had started (its first frame written, with the fixed part) unless the checkpoint
+      // is from the settling: every process read the same flag.
+      fixed_part_written_ = monitor_.has_value();
       last_checkpoint_ = restored_from;
     } else if (c_.initial_state.settle_time > 0.0) {
       sim_.set_settling(true);
@@ -195,19 +197,23 @@ private:
     on_rank_zero([&] { check_folder(); }); // every process stops before the frame if it went
     const std::vector<ContactNodeForce<D>> nodes = stepper_->contact_nodes();
     std::string error; // rank 0's, reported once every process has sent its particles
-    if (c_.output.particles) try {
-        // The fixed bodies' part once, at the run folder's first frame (frame_parts).
-        const auto parts = RunWriter<D>::frame_parts(sim_);
-        if (!parts.fixed.empty() && !fixed_part_written_)
-          RunWriter<D>::write_particles(root_ ? writer_->dir() + "/" + RunWriter<D>::fixed_part
-                                              : std::string(),
-                                        sim_, stepper_->particle_order(), parts.fixed);
-        fixed_part_written_ = true;
-        RunWriter<D>::write_particles(root_ ? writer_->next_particle_frame() : std::string(), sim_,
-                                      stepper_->particle_order(), parts.moving);
-      } catch (const OutputError& e) {
-        error = e.what();
-      }
+    if (c_.output.particles) {
+      // The fixed bodies' part once, at the run folder's first frame, then the frame's own
+      // (frame_parts). Each is collective: every process takes part in both, and rank 0's first
+      // failure is reported after them.
+      auto part = [&](const std::string& path, const ParticleOrder::Spans& spans) {
+        try {
+          RunWriter<D>::write_particles(path, sim_, stepper_->particle_order(), spans);
+        } catch (const OutputError& e) {
+          if (error.empty()) error = e.what();
+        }
+      };
+      const auto parts = RunWriter<D>::frame_parts(sim_);
+      if (!parts.fixed.empty() && !fixed_part_written_)
+        part(root_ ? writer_->dir() + "/" + RunWriter<D>::fixed_part : std::string(), parts.fixed);
+      fixed_part_written_ = true;
+      part(root_ ? writer_->next_particle_frame() : std::string(), parts.moving);
+    }
     on_rank_zero([&] {
       try {
         if (!error.empty()) throw OutputError(error);
