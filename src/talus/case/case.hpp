@@ -79,6 +79,12 @@ struct BodySpec {
   double lattice_angle = 0.0;     // 2D: rotation (radians) of the particle lattice about the
                                   // first polygon vertex, so an inclined edge is seeded straight
   bool fill_around = false;       // the geometry less every other body's (a reservoir's water)
+  // Rigid at rest: its particles and field never change (held by the solver, written once).
+  bool fixed(int dimension) const {
+    for (int d = 0; d < dimension; ++d)
+      if (velocity[d] != 0.0) return false;
+    return rigid;
+  }
 };
 
 // Friction between a pair of bodies; pairs not listed use ContactSettings::friction.

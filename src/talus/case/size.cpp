@@ -217,8 +217,7 @@ RunPlan plan_run(const Case& c, const std::vector<std::size_t>& particles,
   // Fixed bodies (rigid, at rest) beside others are written once (RunWriter::frame_parts).
   double fixed = 0.0;
   for (std::size_t b = 0; b < c.bodies.size(); ++b)
-    if (c.bodies[b].rigid && c.bodies[b].velocity == Vec3a{0.0, 0.0, 0.0})
-      fixed += static_cast<double>(particles[b]);
+    if (c.bodies[b].fixed(c.simulation.dimension)) fixed += static_cast<double>(particles[b]);
   if (fixed == static_cast<double>(plan.particles)) fixed = 0.0;
   plan.output_bytes = (plan.frames * (static_cast<double>(plan.particles) - fixed) +
                        std::min(plan.frames, 1.0) * fixed) *

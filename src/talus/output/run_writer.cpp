@@ -247,7 +247,6 @@ std::vector<std::string> RunWriter<D>::missing_frames() const {
     missing.emplace_back(fixed_part);
   for (const auto* list : {&frames_, &contact_frames_})
     for (const auto& [t, name] : *list) {
-      std::error_code ec;
       if (!std::filesystem::is_regular_file(dir_ + "/" + name, ec)) missing.push_back(name);
     }
   return missing;

@@ -28,7 +28,7 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const std::vector<double
     for (int d = 0; d < D; ++d)
       body.rigid_velocity[d] = spec.velocity[d];
     body.rigid = spec.rigid;
-    body.fixed = spec.rigid && body.rigid_velocity.isZero();
+    body.fixed = spec.fixed(D);
     if (spec.geometric_normal) body.normal_geometry = spec.geometry[0];
     body.mass = body_mass[b];
     s.bodies.push_back(std::move(body));
