@@ -205,6 +205,9 @@ struct OutputSettings {
   // position_precision: "float32", "float64" or (unset) "auto", float32 where it rounds a
   // position by less than a 2,000th of a cell (float32_positions_suffice).
   std::optional<bool> float32_positions;
+  // field_bits: each real field rounded per body to 2^-field_bits of the body's largest value in
+  // the frame, and float32 positions to a power of two <= a 1,000th of a cell (0: exact).
+  int field_bits = 12;
 };
 
 // How the stress starts. "none": stress-free. "k0": the overburden of each grid column,

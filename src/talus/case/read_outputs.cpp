@@ -100,6 +100,11 @@ void read_output(TableReader& root, Case& c) {
     c.output.contact_nodes = ro.boolean("contact_nodes", false);
     c.output.float64_fields =
         ro.choice("precision", {"float32", "float64"}, "float32") == "float64";
+    // Frames compact by default: each float32 field to 12 bits of its body's range (docs/
+    // case-file.md, [output]); float64 fields are exact unless field_bits is given.
+    c.output.field_bits = ro.integer("field_bits", c.output.float64_fields ? 0 : 12, 0, 22);
+    require(ro, "field_bits", c.output.field_bits == 0 || c.output.field_bits >= 8,
+            "must be 0 (exact) or in [8, 22]");
     if (const std::string p =
             ro.choice("position_precision", {"auto", "float64", "float32"}, "auto");
         p != "auto")

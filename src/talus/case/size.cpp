@@ -167,6 +167,16 @@ bool frame_float32_positions(const Case& c) {
       float32_positions_suffice(c.grid, c.simulation.dimension));
 }
 
+double frame_position_quantum(const Case& c) {
+  if (c.output.field_bits == 0 || !frame_float32_positions(c) ||
+      !float32_positions_suffice(c.grid, c.simulation.dimension))
+    return 0.0;
+  // The largest power of two <= h / 1000: every position within h / 2000, as float32's own
+  // rounding promises, and each rounded position exact in float32 (float32_positions_suffice
+  // puts float32's spacing at the grid's far face at or below h / 1000, a power of two too).
+  return std::ldexp(1.0, std::ilogb(c.grid.cell_size / 1000.0));
+}
+
 double frame_bytes_per_particle(const Case& c) {
   const double real = c.output.float64_fields ? 8.0 : 4.0;
   const double position = frame_float32_positions(c) ? 12.0 : 24.0;

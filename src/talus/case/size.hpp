@@ -42,6 +42,9 @@ double estimate_memory(const Case& c, const std::vector<std::size_t>& particles)
 bool float32_positions_suffice(const GridSettings& grid, int dim);
 // The frames' position precision: the case's, else float32 where float32_positions_suffice.
 bool frame_float32_positions(const Case& c);
+// The power of two the frames' positions are rounded to (0: none): output.field_bits > 0 with
+// float32 positions that float32_positions_suffice.
+double frame_position_quantum(const Case& c);
 
 // Bytes per particle of one VTU frame before compression: positions, the vertex cells, body
 // and id, and each field of output.fields at output.precision.

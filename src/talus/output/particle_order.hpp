@@ -27,6 +27,10 @@ public:
   // receives(), with the values of consecutive runs of them, all of them in order.
   virtual void gather(std::size_t width, const Fill& fill, const Take& take,
                       const Spans& spans) = 0;
+  // Collective: f(p) for each of this process's own particles p in `spans` (the p that
+  // gather's fill sees), then each value of `largest` replaced by its largest over the processes.
+  virtual void reduce_max(const Spans& spans, const std::function<void(std::size_t p)>& f,
+                          std::vector<double>& largest) = 0;
   // The same over every particle.
   void gather(std::size_t width, const Fill& fill, const Take& take) {
     gather(width, fill, take, Spans{{0, total()}});
@@ -57,6 +61,12 @@ public:
           fill(at + k, buf.data() + k * width);
         take(buf.data(), count);
       }
+  }
+  void reduce_max(const Spans& spans, const std::function<void(std::size_t p)>& f,
+                  std::vector<double>&) override {
+    for (const auto& [begin, end] : spans)
+      for (std::size_t p = begin; p < end; ++p)
+        f(p);
   }
 
 private:

@@ -204,6 +204,16 @@ std::string RunWriter<D>::next_particle_frame() const {
   return dir_ + "/" + fmt::format("particles_{:06d}.vtu", frames_.size());
 }
 
+namespace {
+// The frames' fields and precision, as the case's [output] asks.
+VtuFields frame_fields(const Case& c) {
+  VtuFields f{c.output.fields, c.output.float64_fields, frame_float32_positions(c)};
+  f.field_bits = c.output.field_bits;
+  f.position_quantum = frame_position_quantum(c);
+  return f;
+}
+} // namespace
+
 template <int D>
 void RunWriter<D>::write_particles(const std::string& path, const Simulation<D>& sim,
                                    ParticleOrder& order, const ParticleOrder::Spans& spans) {
@@ -217,10 +227,7 @@ void RunWriter<D>::write_particles(const std::string& path, const Simulation<D>&
     extra.emplace_back("pore_pressure", [&](std::size_t p) { return pore_pressure(sim, p); });
   if (sim.setup().heating)
     extra.emplace_back("band_temperature", [&](std::size_t p) { return band_temperature(sim, p); });
-  write_particles_vtu<D>(
-      path, sim.particles(), mats,
-      VtuFields{c.output.fields, c.output.float64_fields, frame_float32_positions(c)}, extra, order,
-      spans);
+  write_particles_vtu<D>(path, sim.particles(), mats, frame_fields(c), extra, order, spans);
 }
 
 template <int D>

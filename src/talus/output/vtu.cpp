@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fcntl.h>
@@ -185,8 +186,9 @@ void particle_arrays(VtuBuilder* out, const Particles<D>& P, const std::vector<i
         spans);
     if (out) out->end();
   };
-  // Doubles per particle as Float64 or, rounded, as Float32.
-  auto reals = [&](const std::string& name, int components, bool f64, auto value) {
+  // Doubles per particle as Float64 or Float32, each first rounded to a multiple of its body's
+  // quantum where quantum() gives one (quantise).
+  auto write_reals = [&](const std::string& name, int components, bool f64, auto value) {
     if (f64)
       column("Float64", name, components, 8 * components, [&](std::size_t p, char* o) {
         for (int k = 0; k < components; ++k) {
@@ -202,6 +204,37 @@ void particle_arrays(VtuBuilder* out, const Particles<D>& P, const std::vector<i
         }
       });
   };
+  // v rounded to the nearest multiple of the power of two q (ties to even): exact arithmetic, so
+  // every process and thread count writes the same bits; |error| <= q / 2.
+  auto quantise = [](double v, double q) {
+    return q > 0.0 && std::isfinite(v) ? std::nearbyint(v / q) * q : v;
+  };
+  // A field's values per body kept to 2^-field_bits of the body's largest finite magnitude m_b:
+  // q_b = 2^(floor(log2 m_b) - field_bits), so m_b / q_b < 2^(field_bits + 1) and the rounded
+  // values are exact in float32 (field_bits <= 22) and compress (their low bits are zero).
+  const int bodies = P.num_bodies();
+  auto reals = [&](const std::string& name, int components, bool f64, auto value) {
+    if (fields.field_bits <= 0) return write_reals(name, components, f64, value);
+    std::vector<double> largest(static_cast<std::size_t>(bodies), 0.0);
+    order.reduce_max(
+        spans,
+        [&](std::size_t p) {
+          double& m = largest[static_cast<std::size_t>(P.body_of(p))];
+          for (int k = 0; k < components; ++k)
+            if (const double v = std::abs(value(p, k)); std::isfinite(v)) m = std::max(m, v);
+        },
+        largest);
+    // In float32 no step below its smallest subnormal, 2^-149, of which every float32 is a
+    // multiple (a body whose values are all below about 1e-38 keeps float32's own rounding).
+    std::vector<double> q(largest.size(), 0.0);
+    for (std::size_t b = 0; b < q.size(); ++b)
+      if (largest[b] > 0.0 && std::isfinite(largest[b]))
+        q[b] = std::max(std::ldexp(1.0, std::ilogb(largest[b]) - fields.field_bits),
+                        f64 ? 0.0 : std::ldexp(1.0, -149));
+    write_reals(name, components, f64, [&](std::size_t p, int k) {
+      return quantise(value(p, k), q[static_cast<std::size_t>(P.body_of(p))]);
+    });
+  };
   auto ints = [&](const char* type, const std::string& name, auto value) {
     column(type, name, 1, 4, [&](std::size_t p, char* o) {
       const auto v = value(p);
@@ -213,7 +246,9 @@ void particle_arrays(VtuBuilder* out, const Particles<D>& P, const std::vector<i
   auto vec3 = [](auto get) {
     return [get](std::size_t p, int k) { return k < D ? get(p)[k] : 0.0; };
   };
-  reals("position", 3, !fields.float32_positions, vec3([&](std::size_t p) { return P.x[p]; }));
+  write_reals("position", 3, !fields.float32_positions, [&](std::size_t p, int k) {
+    return k < D ? quantise(P.x[p][k], fields.position_quantum) : 0.0;
+  });
   // Vertices numbered in order: the cells need no gathering. Int32 indices up to 2^31 - 1
   // particles (half the bytes of Int64 before compression), Int64 beyond.
   if (out) {
@@ -258,7 +293,7 @@ void particle_arrays(VtuBuilder* out, const Particles<D>& P, const std::vector<i
   if (fields.wants("stress"))
     reals("stress", 6, f64, [&](std::size_t p, int k) { return P.stress[p][k]; });
   auto scalar = [](const auto& a) { return [&a](std::size_t p, int) { return double(a[p]); }; };
-  if (fields.wants("mass")) reals("mass", 1, f64, scalar(P.m));
+  if (fields.wants("mass")) write_reals("mass", 1, f64, scalar(P.m)); // exact: it sums to the body
   if (fields.wants("volume")) reals("volume", 1, f64, scalar(P.vol));
   if (fields.wants("plastic_strain")) reals("plastic_strain", 1, f64, scalar(P.eps_p));
   if (fields.wants("field")) ints("Int32", "field", [&](std::size_t p) { return P.field[p]; });

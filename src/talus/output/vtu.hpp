@@ -19,6 +19,11 @@ struct VtuFields {
   std::vector<std::string> names; // empty: all
   bool float64_fields = false;    // output.precision = "float64": fields in double precision
   bool float32_positions = false; // output.position_precision = "float32"
+  // output.field_bits: each real field's values rounded to a multiple of a power of two q_b per
+  // body b, q_b <= 2^-field_bits of the body's largest magnitude in the array (0: exact).
+  int field_bits = 0;
+  // Positions rounded to a multiple of this power of two (0: exact).
+  double position_quantum = 0.0;
   bool wants(const std::string& f) const;
 };
 

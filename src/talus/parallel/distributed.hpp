@@ -84,6 +84,8 @@ public:
   bool receives() const override { return rank_ == 0; }
   using ParticleOrder::gather;
   void gather(std::size_t width, const Fill& fill, const Take& take, const Spans& spans) override;
+  void reduce_max(const Spans& spans, const std::function<void(std::size_t p)>& f,
+                  std::vector<double>& largest) override;
 
   int rank() const { return rank_; }
   int size() const { return size_; }

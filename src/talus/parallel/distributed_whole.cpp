@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <stdexcept>
 
 namespace talus {
@@ -111,6 +112,21 @@ void Distributed<D>::gather(std::size_t width, const Fill& fill, const Take& tak
     }
     take(placed.data(), g1 - g0);
   }
+}
+
+// Each own particle whose global index lies in a span, then the maxima over the processes.
+template <int D>
+void Distributed<D>::reduce_max(const Spans& spans, const std::function<void(std::size_t p)>& f,
+                                std::vector<double>& largest) {
+  for (std::size_t k = 0; k < share_own_.size(); ++k) {
+    if (!share_own_[k]) continue;
+    const std::size_t g = share_index_[k];
+    const auto after = std::upper_bound(spans.begin(), spans.end(), g,
+                                        [](std::size_t i, const auto& s) { return i < s.first; });
+    if (after != spans.begin() && g < std::prev(after)->second) f(k);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, largest.data(), static_cast<int>(largest.size()), MPI_DOUBLE, MPI_MAX,
+                comm_);
 }
 
 template <int D>

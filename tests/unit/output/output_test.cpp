@@ -6,11 +6,15 @@
 #include "test_support.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
 #include <random>
 #include <sstream>
+#include <stdexcept>
+#include <zlib.h>
 
 namespace talus {
 namespace {
@@ -96,6 +100,107 @@ TEST(Vtu, PositionsAreFloat32WhereTheyRoundWithinA2000thOfACell) {
   EXPECT_TRUE(float32_positions_suffice(vaiont, 2));
 }
 
+// The values of a frame's array `name` (Float32 or Float64), decoded as VTK's reader does.
+std::vector<double> vtu_array(const std::string& vtu, const std::string& name) {
+  const std::size_t at = vtu.find("Name=\"" + name + "\"");
+  if (at == std::string::npos) throw std::runtime_error("no array " + name);
+  const std::size_t tag = vtu.rfind("<DataArray", at);
+  const bool f64 = vtu.compare(tag, 25, "<DataArray type=\"Float64\"") == 0;
+  const std::size_t off = vtu.find("offset=\"", at) + 8;
+  const std::size_t data = vtu.find("<AppendedData encoding=\"raw\">");
+  const char* base = vtu.data() + vtu.find('_', data) + 1 + std::stoull(vtu.substr(off));
+  std::uint64_t head[3];
+  std::memcpy(head, base, sizeof head);
+  std::string raw;
+  const char* block = base + 8 * (3 + head[0]);
+  for (std::uint64_t b = 0; b < head[0]; ++b) {
+    std::uint64_t size = 0;
+    std::memcpy(&size, base + 8 * (3 + b), 8);
+    uLongf n = b + 1 < head[0] ? head[1] : head[2];
+    std::string out(n, '\0');
+    EXPECT_EQ(uncompress(reinterpret_cast<Bytef*>(out.data()), &n,
+                         reinterpret_cast<const Bytef*>(block), size),
+              Z_OK);
+    raw += out, block += size;
+  }
+  std::vector<double> v(raw.size() / (f64 ? 8 : 4));
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (f64) {
+      std::memcpy(&v[i], raw.data() + 8 * i, 8);
+    } else {
+      float x = 0.0f;
+      std::memcpy(&x, raw.data() + 4 * i, 4);
+      v[i] = x;
+    }
+  }
+  return v;
+}
+
+// output.field_bits: each value within half its body's quantum q_b = 2^(floor(log2 m_b) - bits)
+// of the value (m_b the body's largest magnitude in the array), a whole multiple of it, and the
+// bound is reached (rounding does happen); two bodies 10^6 apart in scale each keep their own
+// precision; NaN stays NaN; mass is exact; positions within half their quantum. Field bits 8 to
+// 22, values spread over six decades.
+TEST(Vtu, FieldBitsKeepEachBodysValuesToItsOwnRange) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Particles<3> P;
+  const std::size_t n = 3000;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double scale = i < n / 2 ? 1.0e3 : 1.0e-3;       // body 0 fast, body 1 slow
+    const double spread = std::pow(10.0, 3.0 * u(random)); // values over six decades
+    P.push_back(Vec<3>(100.0 * u(random), 3.0 + u(random), 7.0e3 + u(random)),
+                Vec<3>(scale * spread * u(random), scale * u(random), 0.0), 1.0 + u(random), 0.01);
+    for (int k = 0; k < 6; ++k)
+      P.stress.back()[k] = 1.0e6 * scale * spread * u(random);
+  }
+  P.body_begin.push_back(n / 2);
+  P.body_begin.push_back(n);
+  const std::vector<ScalarField> extra = {
+      {"band_temperature", [](std::size_t p) { return p % 3 ? NAN : 20.0 + 0.37 * p; }}};
+  for (const int bits : {8, 12, 16, 22}) {
+    VtuFields f;
+    f.float32_positions = true, f.field_bits = bits, f.position_quantum = 1.0 / 256;
+    const std::string vtu = particles_to_vtu<3>(P, {0, 0}, f, extra);
+    auto check = [&](const std::string& name, int comps, auto exact) {
+      const std::vector<double> got = vtu_array(vtu, name);
+      ASSERT_EQ(got.size(), n * comps);
+      for (std::size_t b = 0; b < 2; ++b) {
+        double m = 0.0, worst = 0.0;
+        for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
+          for (int k = 0; k < comps; ++k)
+            if (std::isfinite(exact(p, k))) m = std::max(m, std::abs(exact(p, k)));
+        const double q = std::ldexp(1.0, std::ilogb(m) - bits);
+        EXPECT_LE(q, std::ldexp(m, -bits));
+        for (std::size_t p = P.body_begin[b]; p < P.body_begin[b + 1]; ++p)
+          for (int k = 0; k < comps; ++k) {
+            const double e = exact(p, k), g = got[comps * p + k];
+            if (!std::isfinite(e)) {
+              EXPECT_TRUE(std::isnan(g));
+              continue;
+            }
+            EXPECT_EQ(g, std::nearbyint(g / q) * q) << name << " " << p;
+            worst = std::max(worst, std::abs(g - e));
+          }
+        EXPECT_LE(worst, 0.5 * q) << name << ", body " << b << ", " << bits << " bits";
+        EXPECT_GT(worst, 0.4 * q) << name << ", body " << b << ", " << bits << " bits";
+      }
+    };
+    check("velocity", 3, [&](std::size_t p, int k) { return P.v[p][k]; });
+    check("stress", 6, [&](std::size_t p, int k) { return P.stress[p][k]; });
+    check("band_temperature", 1, [&](std::size_t p, int) { return extra[0].second(p); });
+    const std::vector<double> mass = vtu_array(vtu, "mass"), x = vtu_array(vtu, "position");
+    double worst_x = 0.0;
+    for (std::size_t p = 0; p < n; ++p) {
+      EXPECT_EQ(mass[p], static_cast<double>(static_cast<float>(P.m[p])));
+      for (int k = 0; k < 3; ++k)
+        worst_x = std::max(worst_x, std::abs(x[3 * p + k] - P.x[p][k]));
+    }
+    EXPECT_LE(worst_x, 0.5 / 256);
+    EXPECT_GT(worst_x, 0.4 / 256);
+  }
+}
+
 // An order that hands the writer one particle at a time, in reverse slices of the buffer, as a
 // gather across processes may cut it anywhere.
 class OneByOne final : public ParticleOrder {
@@ -111,6 +216,12 @@ public:
         fill(p, one.data());
         take(one.data(), 1);
       }
+  }
+  void reduce_max(const Spans& spans, const std::function<void(std::size_t p)>& f,
+                  std::vector<double>&) override {
+    for (auto s = spans.rbegin(); s != spans.rend(); ++s) // any order gives the same maxima
+      for (std::size_t p = s->second; p-- > s->first;)
+        f(p);
   }
 
 private:
@@ -142,6 +253,14 @@ TEST(Vtu, AFrameStreamedInPiecesIsTheFrameBuiltWhole) {
   const std::string streamed = read("f.vtu");
   EXPECT_EQ(streamed.size(), whole.size());
   EXPECT_TRUE(streamed == whole);
+  // Rounded to each body's range (field_bits), whose maxima the order reduces: the same too.
+  VtuFields compact;
+  compact.field_bits = 12, compact.position_quantum = 1.0 / 1024;
+  write_particles_vtu<3>(dir + "/c.vtu", P, {1, 0}, compact, extra, order, {{0, n}});
+  const std::string compact_whole = particles_to_vtu<3>(P, {1, 0}, compact, extra);
+  EXPECT_TRUE(read("c.vtu") == compact_whole);
+  EXPECT_LT(compact_whole.size(), whole.size());
+  std::filesystem::remove(dir + "/c.vtu");
   EXPECT_NE(whole.find("Name=\"pore_pressure\""), std::string::npos);
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
   // A frame of some runs of the particles (a frame's parts): the same streamed and built whole,
