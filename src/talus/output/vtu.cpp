@@ -186,8 +186,7 @@ void particle_arrays(VtuBuilder* out, const Particles<D>& P, const std::vector<i
         spans);
     if (out) out->end();
   };
-  // Doubles per particle as Float64 or Float32, each first rounded to a multiple of its body's
-  // quantum where quantum() gives one (quantise).
+  // Doubles per particle as Float64 or, rounded to nearest, as Float32.
   auto write_reals = [&](const std::string& name, int components, bool f64, auto value) {
     if (f64)
       column("Float64", name, components, 8 * components, [&](std::size_t p, char* o) {
