@@ -140,7 +140,7 @@ std::vector<double> vtu_array(const std::string& vtu, const std::string& name) {
 // of the value (m_b the body's largest magnitude in the array), a whole multiple of it, and the
 // bound is reached (rounding does happen); two bodies 10^6 apart in scale each keep their own
 // precision; NaN stays NaN; mass is exact; positions within half their quantum. Field bits 8 to
-// 22, values spread over six decades.
+// 22, values spread over six decades; with 0 every value exact to float32.
 TEST(Vtu, FieldBitsKeepEachBodysValuesToItsOwnRange) {
   std::mt19937_64 random(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -199,6 +199,18 @@ TEST(Vtu, FieldBitsKeepEachBodysValuesToItsOwnRange) {
     EXPECT_LE(worst_x, 0.5 / 256);
     EXPECT_GT(worst_x, 0.4 / 256);
   }
+  // field_bits = 0: every value is float32's own rounding of it.
+  VtuFields exact;
+  exact.float32_positions = true;
+  const std::string vtu = particles_to_vtu<3>(P, {0, 0}, exact, extra);
+  const std::vector<double> v = vtu_array(vtu, "velocity"), s = vtu_array(vtu, "stress"),
+                            x = vtu_array(vtu, "position");
+  for (std::size_t p = 0; p < n; ++p)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(v[3 * p + k], static_cast<double>(static_cast<float>(P.v[p][k])));
+      EXPECT_EQ(s[6 * p + k], static_cast<double>(static_cast<float>(P.stress[p][k])));
+      EXPECT_EQ(x[3 * p + k], static_cast<double>(static_cast<float>(P.x[p][k])));
+    }
 }
 
 // An order that hands the writer one particle at a time, in reverse slices of the buffer, as a
