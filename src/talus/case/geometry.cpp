@@ -1,5 +1,6 @@
 #include "talus/case/geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace talus {
@@ -119,8 +120,9 @@ std::array<double, 2> terrain_column(const Geometry& g, double x, double y) {
 }
 
 template <int D>
-Vec<D> surface_normal(const Geometry& g, const Vec<D>& x) {
+Vec<D> surface_normal(const Geometry& g, const Vec<D>& x, bool* edge) {
   Vec<D> n = Vec<D>::Zero();
+  if (edge) *edge = false;
   if (g.kind == Geometry::Kind::disk) {
     Vec<D> c;
     for (int d = 0; d < D; ++d)
@@ -129,12 +131,31 @@ Vec<D> surface_normal(const Geometry& g, const Vec<D>& x) {
     return r.norm() > 0.0 ? Vec<D>(r / r.norm()) : n;
   }
   if (g.kind == Geometry::Kind::box) {
+    // Outside the box: from its nearest point towards x, the gradient of the distance to it
+    // (beside a box standing on a floor, level with its base, the side's normal: a wall on a
+    // floor, a dam on a valley floor, holds what comes at it there; beyond a corner, the
+    // diagonal from the corner).
+    Vec<D> out = Vec<D>::Zero();
+    for (int d = 0; d < D; ++d)
+      out[d] = x[d] < g.min[d] ? x[d] - g.min[d] : (x[d] > g.max[d] ? x[d] - g.max[d] : 0.0);
+    if (const double r = out.norm(); r > 0.0) return out / r;
+    // On or in it: the nearest face's plane. Ties (to a billionth of the box's size, so that a
+    // node on an edge is not decided by round-off) go to the first face, x before y (before z).
+    double size = 0.0;
+    for (int d = 0; d < D; ++d)
+      size = std::max(size, g.max[d] - g.min[d]);
+    const double tie = 1e-9 * size;
     double best = inf;
+    int ties = 0;
     for (int d = 0; d < D; ++d)
       for (int side = 0; side < 2; ++side) {
         const double dist = std::abs(x[d] - (side ? g.max[d] : g.min[d]));
-        if (dist < best) best = dist, n.setZero(), n[d] = side ? 1.0 : -1.0;
+        if (dist < best - tie)
+          best = dist, n.setZero(), n[d] = side ? 1.0 : -1.0, ties = 1;
+        else if (dist <= best + tie)
+          ++ties;
       }
+    if (edge) *edge = ties > 1;
     return n;
   }
   if constexpr (D == 3) {
@@ -175,8 +196,8 @@ Vec<D> surface_normal(const Geometry& g, const Vec<D>& x) {
   return n;
 }
 
-template Vec<2> surface_normal<2>(const Geometry&, const Vec<2>&);
-template Vec<3> surface_normal<3>(const Geometry&, const Vec<3>&);
+template Vec<2> surface_normal<2>(const Geometry&, const Vec<2>&, bool*);
+template Vec<3> surface_normal<3>(const Geometry&, const Vec<3>&, bool*);
 
 template bool inside<2>(const Geometry&, const Vec<2>&);
 template bool inside<3>(const Geometry&, const Vec<3>&);

@@ -159,19 +159,62 @@ double push_pore(ContactNode<D>& node, const std::int64_t* local, const Setup<D>
   return P;
 }
 
+// Body k of `from` as body j of `to` (its field's data at the node; the law's outputs are not
+// copied).
+template <int D>
+void copy_body(const ContactNode<D>& from, int k, ContactNode<D>& to, int j) {
+  to.body[j] = from.body[k], to.m[j] = from.m[k], to.v[j] = from.v[k];
+  to.grad_m[j] = from.grad_m[k], to.x[j] = from.x[k], to.rigid[j] = from.rigid[k];
+  to.rank[j] = from.rank[k], to.surface_normal[j] = from.surface_normal[k];
+}
+
+// Moves every rigid body of `node` but its heaviest (by nodal mass, the first of equals) to
+// `others` (with their field indices), keeping the order of the rest. A node with at most one
+// rigid body is left as it is.
+template <int D>
+void split_rigid_others(ContactNode<D>& node, std::int64_t* local, ContactNode<D>& others,
+                        std::int64_t* others_local) {
+  int heaviest = -1, rigid = 0;
+  for (int k = 0; k < node.n; ++k)
+    if (node.rigid[k]) {
+      ++rigid;
+      if (heaviest < 0 || node.m[k] > node.m[heaviest]) heaviest = k;
+    }
+  if (rigid < 2) return;
+  int kept = 0;
+  for (int k = 0; k < node.n; ++k) {
+    if (node.rigid[k] && k != heaviest) {
+      others_local[others.n] = local[k];
+      copy_body(node, k, others, others.n++);
+      continue;
+    }
+    if (kept != k) copy_body(node, k, node, kept), local[kept] = local[k];
+    ++kept;
+  }
+  node.n = kept;
+}
+
 } // namespace
 
-// The exact normal of body b's geometry at node g (moved with a rigid body's velocity). A body
-// whose geometry stays put keeps each contact node's normal: per node row along x (allocated
-// when first met; the row's thread alone touches it), per line of nodes along the last axis, the
-// contiguous range of that line met so far. Its memory follows the contact surface, not the grid.
+// The exact normal of body b's geometry at node g (moved with a rigid body's velocity); on an
+// edge or corner of a box, the normal of the face nearest `from`, where the other bodies' mass
+// at the node lies (beside a wall standing on a floor, a node on the wall's foot is its side's
+// for the water beside it; a floor's edge on the grid's face is its top's). A body whose
+// geometry stays put keeps each contact node's normal (zero on an edge: asked from `from` each
+// time): per node row along x (allocated when first met; the row's thread alone touches it), per
+// line of nodes along the last axis, the contiguous range of that line met so far. Its memory
+// follows the contact surface, not the grid.
 template <int D>
-Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g) {
+Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g, const Vec<D>& from) {
   const BodySetup<D>& body = setup_.bodies[b];
   const bool moves = body.rigid && !body.rigid_velocity.isZero();
-  if (moves)
-    return surface_normal<D>(*body.normal_geometry,
-                             Vec<D>(grid_.node_position(g) - body.rigid_velocity * time_));
+  bool edge = false;
+  if (moves) {
+    const Vec<D> shift = body.rigid_velocity * time_;
+    const Vec<D> n =
+        surface_normal<D>(*body.normal_geometry, Vec<D>(grid_.node_position(g) - shift), &edge);
+    return edge ? surface_normal<D>(*body.normal_geometry, Vec<D>(from - shift)) : n;
+  }
   std::vector<NormalLine<D>>& row = normal_cache_[b][g[0]];
   std::int64_t line = 0; // the line's index in the row: nodes[1] x ... x nodes[D - 2]
   for (int d = 1; d < D - 1; ++d)
@@ -189,8 +232,11 @@ Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g) {
   const auto i = static_cast<std::size_t>(z - L.first);
   if (i >= L.normals.size()) L.normals.resize(i + 1, unset);
   Vec<D>& n = L.normals[i];
-  if (std::isnan(n[0])) n = surface_normal<D>(*body.normal_geometry, grid_.node_position(g));
-  return n;
+  if (std::isnan(n[0])) {
+    n = surface_normal<D>(*body.normal_geometry, grid_.node_position(g), &edge);
+    if (edge) n.setZero();
+  }
+  return n.isZero() ? surface_normal<D>(*body.normal_geometry, from) : n;
 }
 
 // Reads every field's m, grad m, mx, the bond capacities and the array `velocity`; writes
@@ -240,51 +286,46 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         node.rank[k] = detail::body_rank(body.mass, b);
         node.surface_normal[k].setZero();
       }
+      // A node with two or more rigid bodies: the deformable bodies there meet the heaviest in
+      // the node's own law and each other rigid body in a pair of its own, after it (below).
+      ContactNode<D> rigid_others;
+      std::int64_t rigid_local[max_bodies_at_node];
+      split_rigid_others(node, local, rigid_others, rigid_local);
       if (node.n >= 2) {
         for (int k = 0; k < node.n; ++k)
-          if (setup_.bodies[node.body[k]].normal_geometry)
-            node.surface_normal[k] = geometric_normal(node.body[k], g);
+          if (setup_.bodies[node.body[k]].normal_geometry) { // from the others' mass here
+            Vec<D> mx = Vec<D>::Zero();
+            double m = 0.0;
+            for (int j = 0; j < node.n; ++j)
+              if (j != k) mx += node.m[j] * node.x[j], m += node.m[j];
+            node.surface_normal[k] = geometric_normal(node.body[k], g, Vec<D>(mx / m));
+          }
         // Normals from mass gradients smoothed over the neighbouring nodes: a lattice-sampled
         // surface's raw gradient tilts by a degree or more from node to node.
         if (const int radius = setup_.normal_smoothing; radius > 0)
           for (int k = 0; k < node.n; ++k)
             if (node.surface_normal[k].isZero())
               node.grad_m[k] = smoothed_gradient<D>(fields_[node.body[k]], g, radius);
-        set_pair_properties(node, local, setup_, fields_, settling_);
-        Vec<D> before[max_bodies_at_node];
-        for (int k = 0; k < node.n; ++k)
-          before[k] = node.v[k];
-        // The pore pressure's push, once a step (on v^{n+1}), before the contact law.
-        double pore[max_bodies_at_node]{};
-        bool pushed = false;
-        if (record && setup_.pore_pressure)
-          for (int k = 0; k < node.n; ++k)
-            pushed = (pore[k] = push_pore(node, local, setup_, fields_, k, dt)) > 0.0 || pushed;
-        if (resolve_contact(node, setup_.contact_law, dt) || pushed) {
-          for (int k = 0; k < node.n; ++k) {
-            (fields_[node.body[k]].*velocity)[local[k]] = node.v[k];
-            if (!record) continue;
-            const int other = heaviest_other(node, k);
-            const Vec<D> dp = node.m[k] * (node.v[k] - before[k]);
-            record_.add_force(r, node.body[k], node.body[other], dp / dt);
-            // The contact's work on the body over the step: its impulse times the node's mean
-            // velocity over the step, (v^n + v^{n+1}) / 2, the velocity the particles move with.
-            const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
-            record_.add_work(r, node.body[k],
-                             node.m[k] * (node.v[k] - before[k]).dot(0.5 * (v_start + node.v[k])));
-            if (setup_.record_contact_nodes && node.v[k] != before[k])
-              record_.add_node(r, {grid_.node_position(g), node.body[k], node.body[other],
-                                   Vec<D>(dp / dt), node.normal[k], node.friction_impulse[k] / dt,
-                                   node.cohesion_impulse[k] / dt});
-            const int f = setup_.interface_of(node.body[k], node.body[other]);
-            if (f >= 0 && is_slave(node, k, other)) // the slave side, counted once
-              record_.add_interface(r, f, node.cohesion_impulse[k] / dt,
-                                    node.friction_impulse[k] / dt,
-                                    node.normal_impulse[k] / dt + pore[k]); // N = N' + P
-          }
-        }
-        if (record) measure_slip(node, local, setup_, fields_, dt);
+        resolve_node(node, local, g, r, dt, velocity, record);
       }
+      // Each deformable body against each other rigid body, in body order, from the velocity
+      // the node's law left: a body in a corner (a floor and a wall, a valley floor and a dam)
+      // is held off both faces.
+      for (int j = 0; j < rigid_others.n; ++j)
+        for (int k = 0; k < node.n; ++k) {
+          if (node.rigid[k]) continue;
+          ContactNode<D> pair;
+          std::int64_t pair_local[2] = {local[k], rigid_local[j]};
+          pair.n = 2;
+          copy_body(node, k, pair, 0);
+          copy_body(rigid_others, j, pair, 1);
+          if (setup_.bodies[pair.body[1]].normal_geometry)
+            pair.surface_normal[1] = geometric_normal(pair.body[1], g, pair.x[0]);
+          else if (const int radius = setup_.normal_smoothing; radius > 0)
+            pair.grad_m[1] = smoothed_gradient<D>(fields_[pair.body[1]], g, radius);
+          resolve_node(pair, pair_local, g, r, dt, velocity, record);
+          node.v[k] = pair.v[0];
+        }
       int d = D - 1;
       while (d >= 1 && ++g[d] == hi[d])
         g[d] = lo[d], --d;
@@ -298,8 +339,50 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
   if (record) record_.end();
 }
 
+template <int D>
+void Simulation<D>::resolve_node(ContactNode<D>& node, const std::int64_t* local, const Index<D>& g,
+                                 std::int64_t r, double dt,
+                                 std::vector<Vec<D>> BodyField<D>::*velocity, bool record) {
+  set_pair_properties(node, local, setup_, fields_, settling_);
+  Vec<D> before[max_bodies_at_node];
+  for (int k = 0; k < node.n; ++k)
+    before[k] = node.v[k];
+  // The pore pressure's push, once a step (on v^{n+1}), before the contact law.
+  double pore[max_bodies_at_node]{};
+  bool pushed = false;
+  if (record && setup_.pore_pressure)
+    for (int k = 0; k < node.n; ++k)
+      pushed = (pore[k] = push_pore(node, local, setup_, fields_, k, dt)) > 0.0 || pushed;
+  if (resolve_contact(node, setup_.contact_law, dt) || pushed) {
+    for (int k = 0; k < node.n; ++k) {
+      (fields_[node.body[k]].*velocity)[local[k]] = node.v[k];
+      if (!record) continue;
+      const int other = heaviest_other(node, k);
+      const Vec<D> dp = node.m[k] * (node.v[k] - before[k]);
+      record_.add_force(r, node.body[k], node.body[other], dp / dt);
+      // The contact's work on the body over the step: its impulse times the node's mean
+      // velocity over the step, (v^n + v^{n+1}) / 2, the velocity the particles move with.
+      const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
+      record_.add_work(r, node.body[k],
+                       node.m[k] * (node.v[k] - before[k]).dot(0.5 * (v_start + node.v[k])));
+      if (setup_.record_contact_nodes && node.v[k] != before[k])
+        record_.add_node(r, {grid_.node_position(g), node.body[k], node.body[other],
+                             Vec<D>(dp / dt), node.normal[k], node.friction_impulse[k] / dt,
+                             node.cohesion_impulse[k] / dt});
+      const int f = setup_.interface_of(node.body[k], node.body[other]);
+      if (f >= 0 && is_slave(node, k, other)) // the slave side, counted once
+        record_.add_interface(r, f, node.cohesion_impulse[k] / dt, node.friction_impulse[k] / dt,
+                              node.normal_impulse[k] / dt + pore[k]); // N = N' + P
+    }
+  }
+  if (record) measure_slip(node, local, setup_, fields_, dt);
+}
+
 #define TALUS_INSTANTIATE(D)                                                                       \
-  template void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*, double, bool);
+  template void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*, double, bool);   \
+  template void Simulation<D>::resolve_node(ContactNode<D>&, const std::int64_t*, const Index<D>&, \
+                                            std::int64_t, double,                                  \
+                                            std::vector<Vec<D>> BodyField<D>::*, bool);
 TALUS_INSTANTIATE(2)
 TALUS_INSTANTIATE(3)
 

@@ -174,8 +174,15 @@ public:
   // Contact on one velocity array of every body field (v, v_new or v_remap); `record` keeps its
   // forces, work, contact nodes and the interfaces' slip rates.
   void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, bool record);
-  // Body b's geometric normal at node g, cached for a body whose geometry stays put.
-  Vec<D> geometric_normal(int b, const Index<D>& g);
+  // The law at one node of contact row r (its bodies' fields at `local`): their friction and
+  // bonds, the pore pressure's push, the correction written to `velocity`, and with `record`
+  // the forces, work, contact nodes and slip rates.
+  void resolve_node(ContactNode<D>& node, const std::int64_t* local, const Index<D>& g,
+                    std::int64_t r, double dt, std::vector<Vec<D>> BodyField<D>::*velocity,
+                    bool record);
+  // Body b's geometric normal at node g, cached for a body whose geometry stays put; on an edge
+  // of its geometry, the normal seen from `from`.
+  Vec<D> geometric_normal(int b, const Index<D>& g, const Vec<D>& from);
   // G2P of the velocity and position (eq. 22-23), from v and v_new.
   void update_particles(double dt);
   // MUSL's particle update and momentum re-map in one coloured pass, then the re-mapped velocity.

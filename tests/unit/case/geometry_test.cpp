@@ -81,6 +81,20 @@ TEST(SurfaceNormal, TheNearestFacesOutwardNormal) {
   box.kind = Geometry::Kind::box, box.min = {0, 0, 0}, box.max = {2, 1, 0};
   EXPECT_EQ(surface_normal<2>(box, Vec<2>(1.0, 0.95)), Vec<2>(0, 1));
   EXPECT_EQ(surface_normal<2>(box, Vec<2>(0.05, 0.5)), Vec<2>(-1, 0));
+  // Outside the box, from its nearest point (the distance's gradient): level with the base and
+  // beside the box, the side (a wall standing on a floor holds what comes at it there); beyond
+  // a corner, the diagonal. On an edge, the x face, whatever the round-off.
+  EXPECT_EQ(surface_normal<2>(box, Vec<2>(-0.1, 0.0)), Vec<2>(-1, 0));
+  EXPECT_EQ(surface_normal<2>(box, Vec<2>(2.1, 0.02)), Vec<2>(1, 0));
+  const Vec<2> corner = surface_normal<2>(box, Vec<2>(2.3, 1.4));
+  EXPECT_NEAR(corner[0], 0.6, 1e-12);
+  EXPECT_NEAR(corner[1], 0.8, 1e-12);
+  EXPECT_EQ(surface_normal<2>(box, Vec<2>(2.0 - 2e-16, 0.0)), Vec<2>(1, 0));
+  EXPECT_EQ(surface_normal<2>(box, Vec<2>(0.0, 1.0 - 1e-16)), Vec<2>(-1, 0));
+  Geometry cube;
+  cube.kind = Geometry::Kind::box, cube.min = {0, 0, 0}, cube.max = {2, 1, 3};
+  EXPECT_EQ(surface_normal<3>(cube, Vec<3>(1.0, -0.2, 0.0)), Vec<3>(0, -1, 0));
+  EXPECT_EQ(surface_normal<3>(cube, Vec<3>(1.0, 0.5, 3.05)), Vec<3>(0, 0, 1));
   Geometry tri; // counter-clockwise right triangle; its hypotenuse faces (1, 1) / sqrt 2
   tri.kind = Geometry::Kind::polygon, tri.vertices = {{0, 0}, {1, 0}, {0, 1}};
   const Vec<2> n = surface_normal<2>(tri, Vec<2>(0.45, 0.45));
