@@ -5,10 +5,10 @@ in .tif) that Talus's terrain cases ship:
   plane OUT.asc --slope DEG --extent X Y --cell H --height Z0
       the plane z = Z0 - x tan(slope) over [0, X] x [0, Y] (cases/benchmarks/terrain_block.toml)
 
-  section SECTION.csv LINE[,LINE...] OUT.asc --width W --cell H [--flank DEG --flank-width B]
+  section SECTION.csv LINE[,LINE...] OUT --width W --cell H [--y0 Y0] [--flank DEG --flank-width B]
       a 2D section's line z(x) (section.csv's `line,x,z` rows, e.g. ground_before or
       failure_surface; with several, each x takes the first line that reaches it) extruded
-      across the valley along y over [0, W]; with --flank, the surface
+      across the valley along y over [Y0, Y0 + W] (Y0 = 0 by default); with --flank, the surface
       rises at DEG degrees over the last B metres on either side (a valley whose flanks close the
       slide in) (cases/vaiont/3d/)
 
@@ -23,8 +23,9 @@ in .tif) that Talus's terrain cases ship:
       a local grid placed in a projected coordinate system: its south-west corner at (E, N), the
       system's EPSG code in the GeoTIFF (docs/hazard-maps.md makes its DEM so)
 
-Each cell holds the surface at its centre; the grid's south-west corner is the origin (plane,
-section; bowl keeps the DEM's).
+Each cell holds the surface at its centre; the grid's south-west corner is the origin (plane;
+section at y = Y0; bowl keeps the DEM's). section, bowl and georeference write a GeoTIFF
+(DEFLATE) where OUT ends in .tif, plane always ESRI ASCII.
 """
 import argparse
 import csv
@@ -102,6 +103,7 @@ s.add_argument("line")
 s.add_argument("out")
 s.add_argument("--width", type=float, required=True)
 s.add_argument("--cell", type=float, required=True)
+s.add_argument("--y0", type=float, default=0.0, help="the raster's southern edge (m)")
 s.add_argument("--flank", type=float, default=0.0, help="flank slope (degrees), 0: none")
 s.add_argument("--flank-width", type=float, default=0.0)
 b = sub.add_parser("bowl")
@@ -159,4 +161,4 @@ else:
     # The flanks: the distance into the flank band from its inner edge, times the slope.
     into = np.maximum(0.0, np.maximum(a.flank_width - y, y - (a.width - a.flank_width)))
     rise = np.tan(math.radians(a.flank)) * into if a.flank > 0 else 0.0 * y
-    write_asc(a.out, zx[None, :] + rise[:, None], lo, 0.0, a.cell)
+    write_raster(a.out, zx[None, :] + rise[:, None], lo, a.y0, a.cell)

@@ -8,9 +8,13 @@
   3d_lake.png     with a fluid body (--lake, default "lake"; its frames need the mass and volume
   lake.json       fields): the water that has left the run through each outflow face over time
                   (its particles an outflow face emptied: they lie on that face and keep their
-                  volume), and the run-up probes of summary.json
+                  volume), the run-up probes of summary.json, and with --past AXIS=VALUE the
+                  water past that plane (below VALUE along AXIS, those left through a face
+                  there included: the water over a dam whose downstream face is at VALUE), each
+                  particle at its volume in the first frame (the frames need the id field)
 
 Usage: plot_3d.py RUN_DIR [--times T ...] [--out DIR] [--every N] [--cut AXIS=VALUE] [--azim DEG]
+                  [--past AXIS=VALUE]
 """
 import argparse
 import tomllib
@@ -31,6 +35,7 @@ ap.add_argument("--every", type=int, default=4, help="draw every Nth particle in
 ap.add_argument("--cut", help="the slice: x=VALUE or y=VALUE (default: y at the grid's middle)")
 ap.add_argument("--azim", type=float, default=-60.0, help="perspective azimuth (degrees)")
 ap.add_argument("--lake", default="lake", help="the fluid body, if the run has one")
+ap.add_argument("--past", help="AXIS=VALUE: also the water below VALUE along x, y or z")
 a = ap.parse_args()
 run = Path(a.run)
 out = Path(a.out) if a.out else run / "plots"
@@ -106,6 +111,9 @@ if lake is not None:
     faces = {f"{'xyz'[d]}_{side}": (d, side) for d in range(3) for side in ("min", "max")
              if g.get("boundary", {}).get(f"{'xyz'[d]}_{side}") == "outflow"}
     series = {f: [] for f in faces}
+    past_axis, past_at = ("xyz".index(a.past.split("=")[0]), float(a.past.split("=")[1])) \
+        if a.past else (None, None)
+    past = []
     times, total = [], None
     for t, f in frames:
         m = talus_frames.read(run, f)
@@ -123,20 +131,32 @@ if lake is not None:
             on = empty & (np.abs(m.points[:, d] - at) <= max(1e-6 * max(1.0, abs(at)),
                                                             g["cell_size"] / 1000))
             series[name].append(float(vol[on].sum()))
+        if past_axis is not None:  # at each particle's first volume: a falling jet's J is not
+            ids = m.point_data["id"].ravel().astype(np.int64)  # the water's volume
+            if not past:
+                volume0 = dict(zip(ids[w].tolist(), vol[w].tolist()))
+            beyond = w & (m.points[:, past_axis] < past_at)
+            past.append(float(sum(volume0.get(i, 0.0) for i in ids[beyond].tolist())))
     summary = json.loads((run / "summary.json").read_text())
     result = {"lake_volume_m3": total, "time_s": times, "left_through_m3": series,
               "left_at_end_m3": {k: v[-1] for k, v in series.items()},
               "run_up": summary.get("results", {}).get("run_up", {})}
+    if past_axis is not None:
+        result.update({"past": a.past, "past_m3": past, "past_at_end_m3": past[-1],
+                       "past_max_m3": max(past)})
     (out / "lake.json").write_text(json.dumps(result, indent=1))
     fig, ax = plt.subplots(figsize=(6, 3.5))
     for name, v in series.items():
         ax.plot(times, np.array(v) / 1e6, label=f"through {name}")
+    if past_axis is not None:
+        ax.plot(times, np.array(past) / 1e6, "k--", label=f"past {a.past}")
     ax.set_xlabel("time since release (s)")
     ax.set_ylabel("water that left (million m$^3$)")
     ax.set_title(f"the lake: {total / 1e6:.1f} million m$^3$")
-    if series:
+    if series or past:
         ax.legend()
     fig.tight_layout()
     fig.savefig(out / "3d_lake.png", dpi=110)
     plt.close(fig)
-    print("wrote", out / "3d_lake.png", out / "lake.json", result["left_at_end_m3"])
+    print("wrote", out / "3d_lake.png", out / "lake.json", result["left_at_end_m3"],
+          f"past {a.past}: {past[-1]:.0f} m^3 at the end" if past else "")

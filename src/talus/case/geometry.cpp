@@ -173,22 +173,45 @@ Vec<D> surface_normal(const Geometry& g, const Vec<D>& x, bool* edge) {
       return n;
     }
     if (g.kind == Geometry::Kind::terrain) {
-      // Nearest of the top (up, normal (-dz/dx, -dz/dy, 1)), the bottom (down) and the
-      // footprint's walls; a surface's distance is its vertical gap times the normal's z.
       const auto [top, bottom] = terrain_column(g, x[0], x[1]);
+      const double tie = 1e-9 * std::max({1.0, std::abs(x[0]), std::abs(x[1]), std::abs(x[2])});
+      // Outside the footprint in plan (not on it, and nearest a wall, not an edge on the grid's
+      // face): from the body's nearest point, on that wall (its normal) or, above the top or
+      // below the bottom there, on the wall's upper or lower rim (the gradient of the
+      // distance): beside a dam standing on a valley floor, level with its foot, the wall's.
+      if (g.footprint && !point_in_polygon(g.vertices, x[0], x[1])) {
+        const Vec<2> p(x[0], x[1]);
+        const auto [dist, wall] = nearest_edge(g.vertices, p, g.open_edge);
+        if (dist > tie && dist == nearest_edge(g.vertices, p).first) {
+          const double above = std::isfinite(top) ? std::max(x[2] - top, 0.0) : 0.0;
+          const double below = std::isfinite(bottom) ? std::max(bottom - x[2], 0.0) : 0.0;
+          const Vec<3> out(dist * wall[0], dist * wall[1], above - below);
+          if (const double r = out.norm(); r > 0.0) return out / r;
+        }
+      }
+      // In it (or on its walls): the nearest of the top (up, normal (-dz/dx, -dz/dy, 1)), the
+      // bottom (down) and the footprint's walls; a surface's distance is its vertical gap times
+      // the normal's z. Two equally near (to a billionth of the column's scale) are an edge.
       double best = inf;
+      int ties = 0;
+      auto take = [&](double dist, const Vec<3>& normal) {
+        if (dist < best - tie)
+          best = dist, n = normal, ties = 1;
+        else if (dist <= best + tie)
+          ++ties;
+      };
       for (int side = 0; side < 2; ++side) {
         const TerrainSurface& s = side ? g.bottom : g.top;
         const double z = side ? bottom : top;
         if (!std::isfinite(z)) continue;
         const Vec<3> up = surface_up(g, s, x[0], x[1]);
-        const double dist = std::abs(x[2] - z) * up[2];
-        if (dist < best) best = dist, n = side ? Vec<3>(-up) : up;
+        take(std::abs(x[2] - z) * up[2], side ? Vec<3>(-up) : up);
       }
       if (g.footprint) {
-        const auto [dist, edge] = nearest_edge(g.vertices, Vec<2>(x[0], x[1]), g.open_edge);
-        if (dist < best) n = Vec<3>(edge[0], edge[1], 0.0);
+        const auto [dist, wall] = nearest_edge(g.vertices, Vec<2>(x[0], x[1]), g.open_edge);
+        take(dist, Vec<3>(wall[0], wall[1], 0.0));
       }
+      if (edge) *edge = ties > 1;
       return n;
     }
   }

@@ -299,6 +299,22 @@ TEST(Terrain, SurfaceNormalsOfThePlanesAndWalls) {
             1e-12);
   EXPECT_LT((surface_normal<3>(g, Vec<3>(20, 24.9, z_top(20, 24.9) - 4)) - Vec<3>(0, 1, 0)).norm(),
             1e-12);
+  // Outside the footprint, from the body's nearest point: beside the wall level with its foot
+  // (0.1 m above the bottom's surface there, which the old rule took), the wall's normal;
+  // beside it above the top, the diagonal from the wall's rim; on the wall at the bottom's
+  // level, two faces equally near, an edge.
+  EXPECT_LT(
+      (surface_normal<3>(g, Vec<3>(20, 25.5, z_top(20, 25.5) - 7.9)) - Vec<3>(0, 1, 0)).norm(),
+      1e-12);
+  EXPECT_LT(
+      (surface_normal<3>(g, Vec<3>(20, 25.5, z_top(20, 25.5) + 0.5)) - Vec<3>(0, 1, 1).normalized())
+          .norm(),
+      1e-6);
+  bool edge = false;
+  surface_normal<3>(g, Vec<3>(20, 25, z_top(20, 25) - 8), &edge);
+  EXPECT_TRUE(edge);
+  surface_normal<3>(g, Vec<3>(20, 15, z_top(20, 15) - 0.5), &edge);
+  EXPECT_FALSE(edge);
   // A footprint's wall on the grid's face bounds nothing: there the normal is the top's (0.6 m
   // from the wall, 0.67 m below the top).
   const Case flush = test::case_from(
