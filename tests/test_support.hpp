@@ -1,4 +1,5 @@
-// Helpers shared by the tests: cases from inline TOML, settling, and a temporary folder.
+// Helpers shared by the tests: cases from inline TOML, settling, stepping to a time, and a
+// temporary folder.
 #pragma once
 
 #include "talus/case/parse.hpp"
@@ -22,6 +23,13 @@ void settle(Sim& sim, const Case& c) {
   while (sim.time() < T - 1e-12)
     sim.step(T - sim.time());
   sim.release();
+}
+
+// Steps to time t (the last step shortened to land on it).
+template <class Sim>
+void run_to(Sim& sim, double t) {
+  while (sim.time() < t - 1e-12)
+    sim.step(t - sim.time());
 }
 
 inline std::string temp_dir(const std::string& name) {

@@ -75,12 +75,6 @@ std::string simulation(int dim, double theta_deg, double flip) {
                      dim, gravity, flip);
 }
 
-template <int D>
-void run_to(Simulation<D>& sim, double t) {
-  while (sim.time() < t - 1e-12)
-    sim.step(t - sim.time());
-}
-
 // Water H deep between the walls, started hydrostatic, 1 s under PIC (under FLIP 0.99 water on a
 // rigid body creeps, a known limit, docs/formulation.md; in this tank, as on a rigid floor alone
 // between slip faces, the 0.35 m water's RMS speed grows from 3e-4 m/s at 0.6 s to 1.5e-3 m/s at
@@ -112,9 +106,9 @@ friction = 0.0
       D == 3 ? "[0.2, 0.0, 0.1]" : "[0.2, 0.1]",
       D == 3 ? fmt::format("[1.2, {}, {}]", depth, 0.1 + H) : fmt::format("[1.2, {}]", 0.1 + H));
   Simulation<D> sim(test::case_from(simulation(D, 0.0, 0.0) + tank_walls(D, h, depth) + water));
-  run_to(sim, 0.5);
+  test::run_to(sim, 0.5);
   sim.reset_force_means();
-  run_to(sim, 1.0);
+  test::run_to(sim, 1.0);
   const auto& rec = sim.contact_record();
   const double wall = 0.5 * rho_w * g * H * H * depth, floor = rho_w * g * H * 1.0 * depth;
   const double left = rec.mean_force(3, 1)[0], right = -rec.mean_force(3, 2)[0];
@@ -175,9 +169,9 @@ box = { min = [0.8, 0.1], max = [1.2, 0.125] }
 friction = 0.0
 )";
     Simulation<2> sim(test::case_from(simulation(2, theta, 0.0) + tank_walls(2, h, 1.0) + block));
-    run_to(sim, 0.5);
+    test::run_to(sim, 0.5);
     sim.reset_force_means();
-    run_to(sim, 1.0);
+    test::run_to(sim, 1.0);
     const double t = theta * std::numbers::pi / 180.0;
     const double mg = rho_s * 0.4 * 0.025 * g;
     const auto& rec = sim.contact_record();
