@@ -132,7 +132,9 @@ if lake is not None:
                                                             g["cell_size"] / 1000))
             series[name].append(float(vol[on].sum()))
         if past_axis is not None:  # at each particle's first volume: a falling jet's J is not
-            ids = m.point_data["id"].ravel().astype(np.int64)  # the water's volume
+            if "id" not in m.point_data:  # the water's volume
+                raise SystemExit(f"plot_3d.py: {f} lacks the id field (--past needs it)")
+            ids = m.point_data["id"].ravel().astype(np.int64)
             if not past:
                 volume0 = dict(zip(ids[w].tolist(), vol[w].tolist()))
             beyond = w & (m.points[:, past_axis] < past_at)

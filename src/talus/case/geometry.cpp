@@ -23,10 +23,12 @@ bool point_in_polygon(const std::vector<std::array<double, 2>>& poly, double x, 
 
 namespace {
 
-// The distance from x to a polygon's nearest edge and that edge's outward unit normal; edges
-// marked in `open` are skipped (infinite distance if all are).
+// The distance from x to a polygon's nearest edge and that edge's outward unit normal (and, if
+// asked, the nearest point on it); edges marked in `open` are skipped (infinite distance if all
+// are).
 std::pair<double, Vec<2>> nearest_edge(const std::vector<std::array<double, 2>>& v, const Vec<2>& x,
-                                       const std::vector<char>& open = {}) {
+                                       const std::vector<char>& open = {},
+                                       Vec<2>* nearest = nullptr) {
   double area = 0.0;
   for (std::size_t i = 0; i < v.size(); ++i)
     area += v[i][0] * v[(i + 1) % v.size()][1] - v[(i + 1) % v.size()][0] * v[i][1];
@@ -40,6 +42,7 @@ std::pair<double, Vec<2>> nearest_edge(const std::vector<std::array<double, 2>>&
     const double dist = (a + t * e - x).norm();
     if (dist < best) {
       best = dist;
+      if (nearest) *nearest = a + t * e;
       const Vec<2> right(e[1], -e[0]); // outward for a counter-clockwise polygon
       n = (area > 0.0 ? 1.0 : -1.0) * right / e.norm();
     }
@@ -66,6 +69,19 @@ Vec<3> surface_up(const Geometry& g, const TerrainSurface& s, double x, double y
   const double sx = slope(r.dx, 0.0, r.dx), sy = slope(0.0, r.dy, r.dy);
   const Vec<3> up(-sx, -sy, 1.0);
   return std::isfinite(up.squaredNorm()) ? Vec<3>(up / up.norm()) : Vec<3>(0.0, 0.0, 1.0);
+}
+
+// The nearest of `count` candidate faces by their distances: the first within `tie` of the
+// smallest (so that a node on an edge is not decided by round-off), and whether two or more are.
+inline int nearest_face(const double* dist, int count, double tie, bool* edge) {
+  double least = inf;
+  for (int i = 0; i < count; ++i)
+    least = std::min(least, dist[i]);
+  int first = -1, within = 0;
+  for (int i = 0; i < count; ++i)
+    if (dist[i] <= least + tie) within += 1, first = first < 0 ? i : first;
+  if (edge) *edge = within > 1;
+  return first;
 }
 
 } // namespace
@@ -131,31 +147,29 @@ Vec<D> surface_normal(const Geometry& g, const Vec<D>& x, bool* edge) {
     return r.norm() > 0.0 ? Vec<D>(r / r.norm()) : n;
   }
   if (g.kind == Geometry::Kind::box) {
+    // Distances below a billionth of the box's size are round-off: a node on a face or an edge
+    // is on it.
+    double size = 0.0;
+    for (int d = 0; d < D; ++d)
+      size = std::max(size, g.max[d] - g.min[d]);
+    const double tie = 1e-9 * size;
     // Outside the box: from its nearest point towards x, the gradient of the distance to it
     // (beside a box standing on a floor, level with its base, the side's normal: a wall on a
     // floor, a dam on a valley floor, holds what comes at it there; beyond a corner, the
     // diagonal from the corner).
     Vec<D> out = Vec<D>::Zero();
     for (int d = 0; d < D; ++d)
-      out[d] = x[d] < g.min[d] ? x[d] - g.min[d] : (x[d] > g.max[d] ? x[d] - g.max[d] : 0.0);
+      out[d] =
+          x[d] < g.min[d] - tie ? x[d] - g.min[d] : (x[d] > g.max[d] + tie ? x[d] - g.max[d] : 0.0);
     if (const double r = out.norm(); r > 0.0) return out / r;
-    // On or in it: the nearest face's plane. Ties (to a billionth of the box's size, so that a
-    // node on an edge is not decided by round-off) go to the first face, x before y (before z).
-    double size = 0.0;
+    // On or in it: the nearest face's plane; two or more equally near are an edge (the first,
+    // x before y (before z), is returned).
+    double dist[2 * D];
     for (int d = 0; d < D; ++d)
-      size = std::max(size, g.max[d] - g.min[d]);
-    const double tie = 1e-9 * size;
-    double best = inf;
-    int ties = 0;
-    for (int d = 0; d < D; ++d)
-      for (int side = 0; side < 2; ++side) {
-        const double dist = std::abs(x[d] - (side ? g.max[d] : g.min[d]));
-        if (dist < best - tie)
-          best = dist, n.setZero(), n[d] = side ? 1.0 : -1.0, ties = 1;
-        else if (dist <= best + tie)
-          ++ties;
-      }
-    if (edge) *edge = ties > 1;
+      for (int side = 0; side < 2; ++side)
+        dist[2 * d + side] = std::abs(x[d] - (side ? g.max[d] : g.min[d]));
+    const int face = nearest_face(dist, 2 * D, tie, edge);
+    n[face / 2] = face % 2 ? 1.0 : -1.0;
     return n;
   }
   if constexpr (D == 3) {
@@ -173,46 +187,44 @@ Vec<D> surface_normal(const Geometry& g, const Vec<D>& x, bool* edge) {
       return n;
     }
     if (g.kind == Geometry::Kind::terrain) {
-      const auto [top, bottom] = terrain_column(g, x[0], x[1]);
       const double tie = 1e-9 * std::max({1.0, std::abs(x[0]), std::abs(x[1]), std::abs(x[2])});
       // Outside the footprint in plan (not on it, and nearest a wall, not an edge on the grid's
-      // face): from the body's nearest point, on that wall (its normal) or, above the top or
-      // below the bottom there, on the wall's upper or lower rim (the gradient of the
-      // distance): beside a dam standing on a valley floor, level with its foot, the wall's.
+      // face): the gradient of the distance to the body, from its nearest point q on that wall:
+      // level with the wall there, (x - q) in plan; above its top or below its bottom at q, from
+      // the wall's rim. Beside a dam standing on a valley floor, level with its foot, the wall's
+      // normal.
       if (g.footprint && !point_in_polygon(g.vertices, x[0], x[1])) {
         const Vec<2> p(x[0], x[1]);
-        const auto [dist, wall] = nearest_edge(g.vertices, p, g.open_edge);
+        Vec<2> q;
+        const double dist = nearest_edge(g.vertices, p, g.open_edge, &q).first;
         if (dist > tie && dist == nearest_edge(g.vertices, p).first) {
+          const auto [top, bottom] = terrain_column(g, q[0], q[1]);
           const double above = std::isfinite(top) ? std::max(x[2] - top, 0.0) : 0.0;
           const double below = std::isfinite(bottom) ? std::max(bottom - x[2], 0.0) : 0.0;
-          const Vec<3> out(dist * wall[0], dist * wall[1], above - below);
+          const Vec<3> out(p[0] - q[0], p[1] - q[1], above - below);
           if (const double r = out.norm(); r > 0.0) return out / r;
         }
       }
       // In it (or on its walls): the nearest of the top (up, normal (-dz/dx, -dz/dy, 1)), the
       // bottom (down) and the footprint's walls; a surface's distance is its vertical gap times
-      // the normal's z. Two equally near (to a billionth of the column's scale) are an edge.
-      double best = inf;
-      int ties = 0;
-      auto take = [&](double dist, const Vec<3>& normal) {
-        if (dist < best - tie)
-          best = dist, n = normal, ties = 1;
-        else if (dist <= best + tie)
-          ++ties;
-      };
+      // the normal's z. Two or more equally near are an edge (the first is returned).
+      const auto [top, bottom] = terrain_column(g, x[0], x[1]);
+      double dist[3] = {inf, inf, inf};
+      Vec<3> normal[3] = {Vec<3>::Zero(), Vec<3>::Zero(), Vec<3>::Zero()};
       for (int side = 0; side < 2; ++side) {
         const TerrainSurface& s = side ? g.bottom : g.top;
         const double z = side ? bottom : top;
         if (!std::isfinite(z)) continue;
         const Vec<3> up = surface_up(g, s, x[0], x[1]);
-        take(std::abs(x[2] - z) * up[2], side ? Vec<3>(-up) : up);
+        dist[side] = std::abs(x[2] - z) * up[2];
+        normal[side] = side ? Vec<3>(-up) : up;
       }
       if (g.footprint) {
-        const auto [dist, wall] = nearest_edge(g.vertices, Vec<2>(x[0], x[1]), g.open_edge);
-        take(dist, Vec<3>(wall[0], wall[1], 0.0));
+        const auto [d, wall] = nearest_edge(g.vertices, Vec<2>(x[0], x[1]), g.open_edge);
+        dist[2] = d, normal[2] = Vec<3>(wall[0], wall[1], 0.0);
       }
-      if (edge) *edge = ties > 1;
-      return n;
+      if (!std::isfinite(std::min({dist[0], dist[1], dist[2]}))) return n;
+      return normal[nearest_face(dist, 3, tie, edge)];
     }
   }
   if constexpr (D == 2) n = nearest_edge(g.vertices, x).second; // the polygon's nearest edge

@@ -22,10 +22,11 @@ std::array<int, 2> prism_axes(int axis);
 std::array<double, 2> terrain_column(const Geometry& g, double x, double y);
 
 // Outward unit normal of the geometry's surface nearest to x (nearest polygon edge or box face;
-// radial for a disk or sphere; outside a box, from its nearest point). Used as the exact contact
-// normal of rigid bodies. `edge` (if given) is set where x lies on an edge or corner of a box,
-// two or more of its faces equally near: the normal there is the first's, and a caller that
-// knows from where a body comes at it can ask again from there.
+// radial for a disk or sphere; outside a box or a terrain body's footprint, from its nearest
+// point). Used as the exact contact normal of rigid bodies. `edge` (if given) is set where x
+// lies on an edge or corner of a box or a terrain body, two or more of its faces equally near:
+// the normal there is the first's, and a caller that knows from where a body comes at it can
+// ask again from there.
 template <int D>
 Vec<D> surface_normal(const Geometry& g, const Vec<D>& x, bool* edge = nullptr);
 

@@ -196,14 +196,14 @@ void split_rigid_others(ContactNode<D>& node, std::int64_t* local, ContactNode<D
 
 } // namespace
 
-// The exact normal of body b's geometry at node g (moved with a rigid body's velocity); on an
-// edge or corner of a box, the normal of the face nearest `from`, where the other bodies' mass
-// at the node lies (beside a wall standing on a floor, a node on the wall's foot is its side's
-// for the water beside it; a floor's edge on the grid's face is its top's). A body whose
-// geometry stays put keeps each contact node's normal (zero on an edge: asked from `from` each
-// time): per node row along x (allocated when first met; the row's thread alone touches it), per
-// line of nodes along the last axis, the contiguous range of that line met so far. Its memory
-// follows the contact surface, not the grid.
+// The exact normal of body b's geometry at node g (moved with a rigid body's velocity); where g
+// lies on an edge or corner of a box or a terrain body, its normal at `from`, where the other
+// bodies' mass at the node lies (beside a wall standing on a floor, a node on the wall's foot
+// has the side's normal for the water beside it; a floor's edge on the grid's face its top's).
+// A body whose geometry stays put keeps each contact node's normal (an edge marked infinite and
+// asked from `from` each time): per node row along x (allocated when first met; the row's
+// thread alone touches it), per line of nodes along the last axis, the contiguous range of that
+// line met so far. Its memory follows the contact surface, not the grid.
 template <int D>
 Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g, const Vec<D>& from) {
   const BodySetup<D>& body = setup_.bodies[b];
@@ -234,9 +234,9 @@ Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g, const Vec<D>& f
   Vec<D>& n = L.normals[i];
   if (std::isnan(n[0])) {
     n = surface_normal<D>(*body.normal_geometry, grid_.node_position(g), &edge);
-    if (edge) n.setZero();
+    if (edge) n[0] = std::numeric_limits<double>::infinity();
   }
-  return n.isZero() ? surface_normal<D>(*body.normal_geometry, from) : n;
+  return std::isinf(n[0]) ? surface_normal<D>(*body.normal_geometry, from) : n;
 }
 
 // Reads every field's m, grad m, mx, the bond capacities and the array `velocity`; writes
@@ -321,7 +321,8 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
           copy_body(rigid_others, j, pair, 1);
           if (setup_.bodies[pair.body[1]].normal_geometry)
             pair.surface_normal[1] = geometric_normal(pair.body[1], g, pair.x[0]);
-          else if (const int radius = setup_.normal_smoothing; radius > 0)
+          if (const int radius = setup_.normal_smoothing;
+              radius > 0 && pair.surface_normal[1].isZero())
             pair.grad_m[1] = smoothed_gradient<D>(fields_[pair.body[1]], g, radius);
           resolve_node(pair, pair_local, g, r, dt, velocity, record);
           node.v[k] = pair.v[0];

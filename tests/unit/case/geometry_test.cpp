@@ -91,6 +91,12 @@ TEST(SurfaceNormal, TheNearestFacesOutwardNormal) {
   EXPECT_NEAR(corner[1], 0.8, 1e-12);
   EXPECT_EQ(surface_normal<2>(box, Vec<2>(2.0 - 2e-16, 0.0)), Vec<2>(1, 0));
   EXPECT_EQ(surface_normal<2>(box, Vec<2>(0.0, 1.0 - 1e-16)), Vec<2>(-1, 0));
+  // A node a round-off below the base of a wall, beside it: on the edge, not below the box.
+  bool edge = false;
+  EXPECT_EQ(surface_normal<2>(box, Vec<2>(2.0, -1e-17), &edge), Vec<2>(1, 0));
+  EXPECT_TRUE(edge);
+  surface_normal<2>(box, Vec<2>(2.1, -1e-17), &edge);
+  EXPECT_FALSE(edge);
   Geometry cube;
   cube.kind = Geometry::Kind::box, cube.min = {0, 0, 0}, cube.max = {2, 1, 3};
   EXPECT_EQ(surface_normal<3>(cube, Vec<3>(1.0, -0.2, 0.0)), Vec<3>(0, -1, 0));

@@ -301,15 +301,16 @@ TEST(Terrain, SurfaceNormalsOfThePlanesAndWalls) {
             1e-12);
   // Outside the footprint, from the body's nearest point: beside the wall level with its foot
   // (0.1 m above the bottom's surface there, which the old rule took), the wall's normal;
-  // beside it above the top, the diagonal from the wall's rim; on the wall at the bottom's
+  // beside it above the top, from the wall's rim (0.5 m out, 0.4 m above the top at the wall,
+  // 21 m); on the wall at the bottom's
   // level, two faces equally near, an edge.
   EXPECT_LT(
       (surface_normal<3>(g, Vec<3>(20, 25.5, z_top(20, 25.5) - 7.9)) - Vec<3>(0, 1, 0)).norm(),
       1e-12);
-  EXPECT_LT(
-      (surface_normal<3>(g, Vec<3>(20, 25.5, z_top(20, 25.5) + 0.5)) - Vec<3>(0, 1, 1).normalized())
-          .norm(),
-      1e-6);
+  EXPECT_LT((surface_normal<3>(g, Vec<3>(20, 25.5, z_top(20, 25.5) + 0.5)) -
+             Vec<3>(0, 0.5, 0.4).normalized())
+                .norm(),
+            1e-6);
   bool edge = false;
   surface_normal<3>(g, Vec<3>(20, 25, z_top(20, 25) - 8), &edge);
   EXPECT_TRUE(edge);
