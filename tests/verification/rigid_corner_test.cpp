@@ -77,8 +77,8 @@ std::string simulation(int dim, double theta_deg, double flip) {
 
 // Water H deep between the walls, started hydrostatic, 1 s under PIC (under FLIP 0.99 water on a
 // rigid body creeps, a known limit, docs/formulation.md; in this tank, as on a rigid floor alone
-// between slip faces, the 0.35 m water's RMS speed grows from 3e-4 m/s at 0.6 s to 1.5e-3 m/s at
-// 1 s and 5e-3 m/s at 1.5 s): the forces' means over the last
+// between slip faces, the 0.35 m water's mean speed grows from 3e-4 m/s at 0.6 s to 1.5e-3 m/s
+// at 1 s and 5.4e-3 m/s at 1.5 s): the forces' means over the last
 // half second against rho g H^2 / 2 per unit width on each wall and rho g H W on the floor
 // (within 1 %), every water particle between the walls' faces and above the floor, no nearer
 // a face than an eighth of a cell (a particle's centre starts a quarter cell off it), and the
