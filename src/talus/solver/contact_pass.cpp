@@ -267,6 +267,10 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
   for (std::int64_t r = first; r < last; ++r) {
     Index<D> g = lo;
     g[0] = lo[0] + r;
+    // The rigid bodies beyond a node's heaviest, reset at each node (its entries are written by
+    // split_rigid_others before they are read): one per row, not a zeroed one per node.
+    ContactNode<D> rigid_others;
+    std::int64_t rigid_local[max_bodies_at_node];
     while (true) {
       // The node as the law sees it: each body with mass here.
       ContactNode<D> node;
@@ -288,8 +292,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
       }
       // A node with two or more rigid bodies: the deformable bodies there meet the heaviest in
       // the node's own law and each other rigid body in a pair of its own, after it (below).
-      ContactNode<D> rigid_others;
-      std::int64_t rigid_local[max_bodies_at_node];
+      rigid_others.n = 0;
       split_rigid_others(node, local, rigid_others, rigid_local);
       if (node.n >= 2) {
         for (int k = 0; k < node.n; ++k)
