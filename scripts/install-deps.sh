@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config ccache
   clang clang-format libclang-rt-14-dev libomp-dev
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev zlib1g-dev
+  liblzma-dev                    # the frames' LZMA compression (VTK's vtkLZMADataCompressor)
   libgtest-dev libgmock-dev libbenchmark-dev
   libgdal-dev                    # terrain rasters and footprints (GeoTIFF, ESRI ASCII, GeoJSON, shapefile)
   python3-numpy python3-matplotlib python3-meshio

@@ -63,8 +63,8 @@ int check(const talus::Case& c) {
              "s at {:.0e} particle-updates/s\n",
              plan.memory_bytes / 1e6, talus::machine_memory() / 1e9,
              static_cast<double>(plan.particles) * plan.steps / assumed_rate, assumed_rate);
-  // The frames and their size before compression (an upper bound: zlib shrinks the floats by a
-  // third to a half and the integer arrays to almost nothing; docs/case-file.md).
+  // The frames and their size before compression (an upper bound: a frame compresses to 0.1-0.3
+  // of it; docs/case-file.md, "Frame size").
   fmt::print("  output about {:.6g} frames, at most about {:.3g} GB before compression "
              "({:.0f} bytes per particle per frame)\n",
              plan.frames, plan.output_bytes / 1e9, plan.frame_bytes);

@@ -105,6 +105,7 @@ void read_output(TableReader& root, Case& c) {
     c.output.field_bits = ro.integer("field_bits", c.output.float64_fields ? 0 : 12, 0, 22);
     require(ro, "field_bits", c.output.field_bits == 0 || c.output.field_bits >= 8,
             "must be 0 (exact) or in [8, 22]");
+    c.output.zlib_frames = ro.choice("compression", {"lzma", "zlib"}, "lzma") == "zlib";
     if (const std::string p =
             ro.choice("position_precision", {"auto", "float64", "float32"}, "auto");
         p != "auto")

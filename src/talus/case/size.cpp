@@ -261,12 +261,12 @@ RunPlan plan_run(const Case& c, const std::vector<std::size_t>& particles,
         "run may take: check simulation.end_time, simulation.dt and the materials' densities and "
         "moduli",
         plan.steps, plan.dt, max_run_steps);
-  if (plan.free_disk_bytes >= 0 && best_compression * plan.output_bytes > plan.free_disk_bytes)
+  if (plan.free_disk_bytes >= 0 && best_compression(c) * plan.output_bytes > plan.free_disk_bytes)
     plan.disk_full = fmt::format(
         "the output (about {:.3g} GB before compression, at least {:.3g} GB compressed) does not "
         "fit in the {:.3g} GB free here: a larger output.every or fewer output.fields (or "
         "--force to run anyway)",
-        plan.output_bytes / 1e9, best_compression * plan.output_bytes / 1e9,
+        plan.output_bytes / 1e9, best_compression(c) * plan.output_bytes / 1e9,
         plan.free_disk_bytes / 1e9);
   return plan;
 }

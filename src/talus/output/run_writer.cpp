@@ -210,6 +210,7 @@ VtuFields frame_fields(const Case& c) {
   VtuFields f{c.output.fields, c.output.float64_fields, frame_float32_positions(c)};
   f.field_bits = c.output.field_bits;
   f.position_quantum = frame_position_quantum(c);
+  f.compression = c.output.zlib_frames ? FrameCompression::zlib : FrameCompression::lzma;
   return f;
 }
 } // namespace

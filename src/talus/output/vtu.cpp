@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <lzma.h>
 #include <stdexcept>
 #include <unistd.h>
 #include <zlib.h>
@@ -84,16 +85,22 @@ private:
 };
 
 // A VTK XML UnstructuredGrid of vertices built in two parts: the XML, where each DataArray gives
-// its offset into the appended block, and the appended block of raw binary arrays, each
-// compressed as VTK's vtkZLibDataCompressor reads it: a UInt64 header (number of blocks, block
-// size, size of the last block, then each block's compressed size) followed by the blocks. An
-// array's bytes may arrive in pieces (begin, append..., end).
+// its offset into the appended block, and the appended block of raw binary arrays, each cut into
+// blocks of 256 KiB compressed one by one as VTK's vtkLZMADataCompressor (an xz stream, LZMA2 at
+// preset 0) or vtkZLibDataCompressor (zlib at level 1) reads them: a UInt64 header (number of
+// blocks, block size, size of the last block, then each block's compressed size) followed by the
+// blocks. An array's bytes may arrive in pieces (begin, append..., end); up to `batch` blocks are
+// staged and compressed at once, in parallel, each on its own, so that the bytes do not depend on
+// the thread count.
 class VtuBuilder {
 public:
-  VtuBuilder(std::size_t n, Appended& out) : out_(out) {
-    xml_ = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-           "byte_order=\"LittleEndian\" header_type=\"UInt64\" "
-           "compressor=\"vtkZLibDataCompressor\">\n  <UnstructuredGrid>\n";
+  VtuBuilder(std::size_t n, Appended& out, FrameCompression compression)
+      : out_(out), compression_(compression) {
+    xml_ = fmt::format("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" "
+                       "version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" "
+                       "compressor=\"{}\">\n  <UnstructuredGrid>\n",
+                       compression == FrameCompression::lzma ? "vtkLZMADataCompressor"
+                                                             : "vtkZLibDataCompressor");
     xml_ += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
     xml_ += "      <Points>\n";
   }
@@ -115,24 +122,27 @@ public:
   void append(const void* data, std::size_t bytes) {
     const char* c = static_cast<const char*>(data);
     while (bytes > 0) {
-      const std::size_t take = std::min(bytes, block - stage_.size());
+      const std::size_t take = std::min(bytes, batch * block - stage_.size());
       stage_.insert(stage_.end(), c, c + take);
       c += take, bytes -= take;
-      if (stage_.size() == block) flush();
+      if (stage_.size() == batch * block) flush();
     }
   }
   void end() {
     if (!stage_.empty()) flush();
-    // Zero bytes after the last block's zlib stream (readers stop at the stream's end) make
-    // every array's offset but the first 1 mod 4: meshio 5 looks arrays up by offset while it
+    // Bytes after the last block's stream (readers stop at the stream's end) make every
+    // array's offset but the first 1 mod 4: meshio 5 looks arrays up by offset while it
     // rewrites the offsets to multiples of 4, and an offset equal to a rewritten one made it
-    // read the wrong array.
+    // read the wrong array. After an xz stream they are 0xFF, which no LZMA decoder takes for
+    // the start of a further stream (Python's lzma, which meshio uses, looks for one and stops
+    // at a byte it cannot start with; a zero byte it would wait on).
     const std::size_t size = header_.size() * sizeof(std::uint64_t) + body_;
     const std::size_t want = header_at_ == 0 ? 1 : 0; // this array's size mod 4
     if (header_[0] > 0) {
       const std::size_t pad = (want + 4 - size % 4) % 4;
-      const char zeros[4] = {};
-      out_.write(zeros, pad);
+      const char fill = compression_ == FrameCompression::lzma ? '\xff' : '\0';
+      const char bytes[4] = {fill, fill, fill, fill};
+      out_.write(bytes, pad);
       header_.back() += pad;
     }
     out_.write_at(header_at_, header_.data(), header_.size() * sizeof(std::uint64_t));
@@ -152,24 +162,56 @@ public:
   static constexpr const char* tail = "\n  </AppendedData>\n</VTKFile>\n";
 
 private:
-  static constexpr std::size_t block = 1 << 20; // uncompressed bytes per block
+  static constexpr std::size_t block = 1 << 18; // uncompressed bytes per block
+  static constexpr std::size_t batch = 16;      // blocks staged and compressed together
+  // The staged bytes' blocks compressed in parallel, then written in order.
   void flush() {
-    uLongf size = compressBound(stage_.size());
-    z_.resize(size);
-    if (compress2(reinterpret_cast<Bytef*>(z_.data()), &size,
-                  reinterpret_cast<const Bytef*>(stage_.data()), stage_.size(),
-                  Z_BEST_SPEED) != Z_OK)
-      throw std::runtime_error("zlib: compress2 failed");
-    out_.write(z_.data(), size);
-    header_.push_back(size);
-    body_ += size;
+    const std::size_t count = (stage_.size() + block - 1) / block;
+    if (z_.size() < count) z_.resize(count);
+    bool failed = false;
+#pragma omp parallel for schedule(static, 1) reduction(|| : failed) if (count > 1)
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::size_t at = i * block, n = std::min(block, stage_.size() - at);
+      failed = !compress_block(stage_.data() + at, n, z_[i]) || failed;
+    }
+    if (failed)
+      throw std::runtime_error(compression_ == FrameCompression::lzma ? "lzma: encoding failed"
+                                                                      : "zlib: compress2 failed");
+    for (std::size_t i = 0; i < count; ++i) {
+      out_.write(z_[i].data(), z_[i].size());
+      header_.push_back(z_[i].size());
+      body_ += z_[i].size();
+    }
     stage_.clear();
   }
+  // One block as its own xz stream (LZMA2 preset 0, a CRC32 check: what VTK's LZMA compressor
+  // writes, at its fastest preset) or zlib stream (level 1).
+  bool compress_block(const char* in, std::size_t n, std::vector<char>& z) const {
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(in);
+    if (compression_ == FrameCompression::lzma) {
+      z.resize(lzma_stream_buffer_bound(n));
+      std::size_t size = 0;
+      if (lzma_easy_buffer_encode(0, LZMA_CHECK_CRC32, nullptr, bytes, n,
+                                  reinterpret_cast<std::uint8_t*>(z.data()), &size,
+                                  z.size()) != LZMA_OK)
+        return false;
+      z.resize(size);
+      return true;
+    }
+    uLongf size = compressBound(n);
+    z.resize(size);
+    if (compress2(reinterpret_cast<Bytef*>(z.data()), &size, bytes, n, Z_BEST_SPEED) != Z_OK)
+      return false;
+    z.resize(size);
+    return true;
+  }
   Appended& out_;
+  FrameCompression compression_;
   std::string xml_;
   std::vector<std::uint64_t> header_;
   std::size_t header_at_ = 0, body_ = 0;
-  std::vector<char> stage_, z_;
+  std::vector<char> stage_;
+  std::vector<std::vector<char>> z_; // each staged block's compressed bytes
 };
 
 // The particle arrays, each gathered in `order`'s order (out: where order.receives()).
@@ -316,7 +358,7 @@ std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body
   LocalOrder order(P.size());
   const ParticleOrder::Spans all = spans.empty() ? ParticleOrder::Spans{{0, P.size()}} : spans;
   Appended data;
-  VtuBuilder out(ParticleOrder::count(all), data);
+  VtuBuilder out(ParticleOrder::count(all), data, fields.compression);
   particle_arrays<D>(&out, P, body_material, fields, extra, order, all);
   return out.head() + data.memory() + VtuBuilder::tail;
 }
@@ -331,7 +373,7 @@ void write_particles_vtu(const std::string& path, const Particles<D>& P,
     return;
   }
   Appended data(path + ".body.tmp");
-  VtuBuilder out(ParticleOrder::count(spans), data);
+  VtuBuilder out(ParticleOrder::count(spans), data, fields.compression);
   particle_arrays<D>(&out, P, body_material, fields, extra, order, spans);
   if (!data.error().empty()) throw OutputError(path + ": " + data.error());
   AtomicFile file(path);
@@ -344,7 +386,7 @@ void write_particles_vtu(const std::string& path, const Particles<D>& P,
 std::string vertices_to_vtu(const std::vector<double>& xyz, const std::vector<VtuArray>& arrays) {
   const std::size_t n = xyz.size() / 3;
   Appended data;
-  VtuBuilder out(n, data);
+  VtuBuilder out(n, data, FrameCompression::zlib);
   out.array("Float64", "position", 3, xyz);
   out.xml("      </Points>\n      <Cells>\n");
   std::vector<std::int64_t> conn(n), offsets(n);

@@ -1,5 +1,5 @@
 // ParaView output: particles as VTK XML UnstructuredGrid (.vtu: appended raw binary arrays,
-// zlib-compressed as VTK's own compressor writes them) and the time series that lists them
+// LZMA- or zlib-compressed as VTK's own compressors write them) and the time series that lists them
 // (.pvd). The writer reads the state; the solver knows no format.
 #pragma once
 
@@ -14,6 +14,10 @@
 
 namespace talus {
 
+// How a frame's arrays are compressed (output.compression): LZMA (xz, VTK's
+// vtkLZMADataCompressor) or zlib (vtkZLibDataCompressor).
+enum class FrameCompression { lzma, zlib };
+
 // The particle fields a frame carries (positions and body id always).
 struct VtuFields {
   std::vector<std::string> names; // empty: all
@@ -24,6 +28,7 @@ struct VtuFields {
   int field_bits = 0;
   // Positions rounded to a multiple of this power of two (0: exact).
   double position_quantum = 0.0;
+  FrameCompression compression = FrameCompression::lzma;
   bool wants(const std::string& f) const;
 };
 
@@ -47,7 +52,8 @@ void write_particles_vtu(const std::string& path, const Particles<D>& P,
                          const std::vector<ScalarField>& extra, ParticleOrder& order,
                          const ParticleOrder::Spans& spans);
 
-// Any point set as VTU vertices: positions (x, y, z per point) and named point arrays, each
+// Any point set as VTU vertices (zlib-compressed): positions (x, y, z per point) and named point
+// arrays, each
 // Float64 (f64, if not empty) or Int32 (i32), `components` values per point.
 struct VtuArray {
   std::string name;
