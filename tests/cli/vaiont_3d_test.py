@@ -84,7 +84,8 @@ for name, near in (("y = 0", y0 < rows), ("y = 1,696 m", y0 > width - rows)):
     check(near.sum() > 0 and abs(share) < 0.02 and abs(dz) < 2.0,
           f"the slice at the wall {name} moved as the middle slice")
 
-# The boundary's top below each particle (the raster's cells, 8 m, nearest), against its z.
+# The boundary's top below each particle (the raster's 8 m cell that holds it; row 0 is the
+# northernmost, y from yllcorner + nrows cells down), against its z.
 raster = (source / "cases/vaiont/3d/boundary_top.asc").read_text().split("\n")
 head = {}
 k = 0
@@ -97,8 +98,8 @@ z = np.array([[float(v) for v in line.split()] for line in raster[k:] if line.st
 cell = head["cellsize"]
 x0 = head.get("xllcorner", head.get("xllcenter", 0.0) - cell / 2)
 y0r = head.get("yllcorner", head.get("yllcenter", 0.0) - cell / 2)
-col = np.clip(((x[:, 0] - x0) / cell).astype(int), 0, z.shape[1] - 1)
-row = np.clip((z.shape[0] - 1 - (x[:, 1] - y0r) / cell).astype(int), 0, z.shape[0] - 1)
+col = np.clip(np.floor((x[:, 0] - x0) / cell).astype(int), 0, z.shape[1] - 1)
+row = np.clip(np.floor(z.shape[0] - (x[:, 1] - y0r) / cell).astype(int), 0, z.shape[0] - 1)
 below = z[row, col] - x[:, 2]
 print(f"deepest slide particle below the boundary's top: {below.max():.1f} m (cells 32 m)")
 check(below.max() < 32.0, "no slide particle below the rigid boundary's top by more than a cell")

@@ -160,11 +160,14 @@ public:
                   "  <AppendedData encoding=\"raw\">\n   _";
   }
   static constexpr const char* tail = "\n  </AppendedData>\n</VTKFile>\n";
+  const std::string& error() const { return error_; }
 
 private:
   static constexpr std::size_t block = 1 << 18; // uncompressed bytes per block
   static constexpr std::size_t batch = 16;      // blocks staged and compressed together
-  // The staged bytes' blocks compressed in parallel, then written in order.
+  // The staged bytes' blocks compressed in parallel, then written in order. A failure is kept
+  // (error()) and the frame's remaining blocks are dropped: the writer reports it once every
+  // array is gathered, so that on several processes none is left waiting in a gather.
   void flush() {
     const std::size_t count = (stage_.size() + block - 1) / block;
     if (z_.size() < count) z_.resize(count);
@@ -172,11 +175,20 @@ private:
 #pragma omp parallel for schedule(static, 1) reduction(|| : failed) if (count > 1)
     for (std::size_t i = 0; i < count; ++i) {
       const std::size_t at = i * block, n = std::min(block, stage_.size() - at);
-      failed = !compress_block(stage_.data() + at, n, z_[i]) || failed;
+      bool ok = false;
+      try {
+        ok = compress_block(stage_.data() + at, n, z_[i]);
+      } catch (...) { // out of memory: no exception may leave the parallel region
+      }
+      failed = !ok || failed;
     }
-    if (failed)
-      throw std::runtime_error(compression_ == FrameCompression::lzma ? "lzma: encoding failed"
-                                                                      : "zlib: compress2 failed");
+    if (failed && error_.empty())
+      error_ = compression_ == FrameCompression::lzma ? "LZMA compression failed"
+                                                      : "zlib compression failed";
+    if (!error_.empty()) {
+      stage_.clear();
+      return;
+    }
     for (std::size_t i = 0; i < count; ++i) {
       out_.write(z_[i].data(), z_[i].size());
       header_.push_back(z_[i].size());
@@ -212,6 +224,7 @@ private:
   std::size_t header_at_ = 0, body_ = 0;
   std::vector<char> stage_;
   std::vector<std::vector<char>> z_; // each staged block's compressed bytes
+  std::string error_;                // the first compression failure
 };
 
 // The particle arrays, each gathered in `order`'s order (out: where order.receives()).
@@ -360,6 +373,7 @@ std::string particles_to_vtu(const Particles<D>& P, const std::vector<int>& body
   Appended data;
   VtuBuilder out(ParticleOrder::count(all), data, fields.compression);
   particle_arrays<D>(&out, P, body_material, fields, extra, order, all);
+  if (!out.error().empty()) throw OutputError("frame: " + out.error());
   return out.head() + data.memory() + VtuBuilder::tail;
 }
 
@@ -376,6 +390,7 @@ void write_particles_vtu(const std::string& path, const Particles<D>& P,
   VtuBuilder out(ParticleOrder::count(spans), data, fields.compression);
   particle_arrays<D>(&out, P, body_material, fields, extra, order, spans);
   if (!data.error().empty()) throw OutputError(path + ": " + data.error());
+  if (!out.error().empty()) throw OutputError(path + ": " + out.error());
   AtomicFile file(path);
   file.write(out.head());
   data.copy_to(file);

@@ -116,6 +116,7 @@ std::vector<double> vtu_array(const std::string& vtu, const std::string& name) {
   const char* base = vtu.data() + vtu.find('_', data) + 1 + std::stoull(vtu.substr(off));
   std::uint64_t head[3];
   std::memcpy(head, base, sizeof head);
+  std::uint64_t total = 0; // the bytes the header declares
   std::string raw;
   const char* block = base + 8 * (3 + head[0]);
   for (std::uint64_t b = 0; b < head[0]; ++b) {
@@ -131,13 +132,20 @@ std::vector<double> vtu_array(const std::string& vtu, const std::string& name) {
           reinterpret_cast<std::uint8_t*>(out.data()), &got, n);
       EXPECT_EQ(r, LZMA_OK);
       EXPECT_EQ(got, n);
+      // The stream fills its block but for the alignment padding after the last one: 0xFF.
+      EXPECT_TRUE(in == size || (b + 1 == head[0] && size - in < 4));
+      for (std::size_t k = in; k < size; ++k)
+        EXPECT_EQ(static_cast<unsigned char>(block[k]), 0xFF);
     } else {
       EXPECT_EQ(uncompress(reinterpret_cast<Bytef*>(out.data()), &n,
                            reinterpret_cast<const Bytef*>(block), size),
                 Z_OK);
     }
-    raw += out, block += size;
+    raw += out, block += size, total += n;
   }
+  // Every block but the last is whole; the last holds the rest.
+  EXPECT_EQ(total, head[0] == 0 ? 0 : (head[0] - 1) * head[1] + head[2]);
+  EXPECT_TRUE(head[0] == 0 || (head[2] > 0 && head[2] <= head[1]));
   std::vector<double> v(raw.size() / (f64 ? 8 : 4));
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (f64) {
@@ -281,6 +289,12 @@ TEST(Vtu, AFrameStreamedInPiecesIsTheFrameBuiltWhole) {
   const std::string streamed = read("f.vtu");
   EXPECT_EQ(streamed.size(), whole.size());
   EXPECT_TRUE(streamed == whole);
+  // The positions (Float64, 19 blocks in two batches) decode to the particles' own, in order.
+  const std::vector<double> x = vtu_array(whole, "position");
+  ASSERT_EQ(x.size(), 3 * n);
+  for (std::size_t p = 0; p < n; ++p)
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(x[3 * p + k], P.x[p][k]) << p;
   // Rounded to each body's range (field_bits), whose maxima the order reduces: the same too.
   VtuFields compact;
   compact.field_bits = 12, compact.position_quantum = 1.0 / 1024;
