@@ -24,27 +24,28 @@ void Simulation<D>::fit_body_fields() {
   bounds.resize(2 * B * D);
   double* lo_ = bounds.data();
   double* hi_ = bounds.data() + B * D;
+  // Each body's particles span its box (a held body keeps the box it has), and the orphans (a
+  // handful, if any) stretch their hosts' boxes. One parallel region for every body: a minimum
+  // and a maximum do not depend on the order they are taken in.
+  for (int b = 0; b < B; ++b)
+    if (!field_held_[b]) std::fill_n(lo_ + b * D, D, inf), std::fill_n(hi_ + b * D, D, -inf);
+#pragma omp parallel reduction(min : lo_[:B * D]) reduction(max : hi_[:B * D])
   for (int b = 0; b < B; ++b) {
-    if (field_held_[b]) continue;
-    double l[D], h[D];
-    std::fill_n(l, D, inf), std::fill_n(h, D, -inf);
+    const bool own = !field_held_[b];
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-#pragma omp parallel for schedule(static) reduction(min : l[:D]) reduction(max : h[:D])
-    for (std::int64_t p = begin; p < end; ++p)
-      for (int d = 0; d < D; ++d)
-        l[d] = std::min(l[d], P.x[p][d]), h[d] = std::max(h[d], P.x[p][d]);
-    std::copy_n(l, D, lo_ + b * D), std::copy_n(h, D, hi_ + b * D);
-  }
-  // The orphans (a handful, if any) stretch their hosts' boxes.
-  for (int b = 0; b < B; ++b) {
-    const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-#pragma omp parallel for schedule(static) reduction(min : lo_[:B * D]) reduction(max : hi_[:B * D])
-    for (std::int64_t p = begin; p < end; ++p)
+#pragma omp for schedule(static) nowait
+    for (std::int64_t p = begin; p < end; ++p) {
+      if (own)
+        for (int d = 0; d < D; ++d) {
+          lo_[b * D + d] = std::min(lo_[b * D + d], P.x[p][d]);
+          hi_[b * D + d] = std::max(hi_[b * D + d], P.x[p][d]);
+        }
       if (const int f = P.field[p]; f != b)
         for (int d = 0; d < D; ++d) {
           lo_[f * D + d] = std::min(lo_[f * D + d], P.x[p][d]);
           hi_[f * D + d] = std::max(hi_[f * D + d], P.x[p][d]);
         }
+    }
   }
   // The nodes [cell(lo) - 1, cell(hi) + 3) hold the support of every point in [lo, hi].
   auto node_range = [&](const double* lo, const double* hi, Index<D>& first, Index<D>& last) {

@@ -19,13 +19,15 @@ template <int D>
 void Simulation<D>::update_interface_history(double dt) {
   if ((settling_ && !setup_.pore_pressure) || setup_.num_interfaces == 0) return;
   auto& P = particles_;
+  shape_.require(steps_, particles_.size());
+  // One parallel region for every body with an interface (each particle's update is its own).
+#pragma omp parallel
   for (int b = 0; b < num_bodies(); ++b) {
     if (setup_.bodies[b].rigid || fields_[b].slots == 0) continue;
-    shape_.require(steps_, particles_.size());
     const BodyField<D>& N = fields_[b];
     const int S = N.slots;
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static) nowait
     for (std::int64_t p = begin; p < end; ++p) {
       if (P.iface[p] < 0 || P.field[p] != b) continue;
       const int slot = setup_.slot(b, P.iface[p]);

@@ -34,13 +34,15 @@ void Simulation<D>::bin_particles_by_slab() {
   std::fill(plan_.bin_offset.begin(), plan_.bin_offset.end(), 0);
   const double inv_h = 1.0 / grid_.h;
   constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  for (int b = 0; b < B; ++b) // a held body's field stands: no scatter visits its particles
+    if (field_held_[b])
+      std::fill(plan_.particle_bin.begin() + P.body_begin[b],
+                plan_.particle_bin.begin() + P.body_begin[b + 1], none);
+#pragma omp parallel // one region for every body
   for (int b = 0; b < B; ++b) {
+    if (field_held_[b]) continue;
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-    if (field_held_[b]) { // its field stands: no scatter visits its particles
-      std::fill(plan_.particle_bin.begin() + begin, plan_.particle_bin.begin() + end, none);
-      continue;
-    }
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static) nowait
     for (std::int64_t p = begin; p < end; ++p) {
       const double xi = (P.x[p][0] - grid_.origin[0]) * inv_h;
       const std::int64_t s = std::clamp<std::int64_t>(
