@@ -144,7 +144,8 @@ Outcome run_distributed(const Case& c, const GoldenCase& g, int split) {
   Simulation<D> sim(c, std::move(seeding.seeded));
   LoadArchive in(bytes, "memory");
   RestoredShare share;
-  choose_slab<D>(in, sim.grid(), sim.setup().normal_smoothing, MPI_COMM_WORLD, share, start<D>);
+  choose_slab<D>(in, sim.grid(), ghost_columns(sim.setup().normal_smoothing, sim.setup().xpic),
+                 MPI_COMM_WORLD, share, start<D>);
   serialize_state(in, sim, "memory");
   EXPECT_TRUE(in.done());
   Distributed<D> dist(sim, MPI_COMM_WORLD, std::move(share.bounds), std::move(seeding.body_begin),
@@ -307,7 +308,8 @@ TEST(Restart, AReadThatFailsOnOneProcessFailsOnAll) {
   Simulation<2> sim(c, std::move(seeding.seeded));
   LoadArchive in(bytes, "memory");
   RestoredShare share;
-  choose_slab<2>(in, sim.grid(), sim.setup().normal_smoothing, MPI_COMM_WORLD, share);
+  choose_slab<2>(in, sim.grid(), ghost_columns(sim.setup().normal_smoothing), MPI_COMM_WORLD,
+                 share);
   std::string error;
   try {
     agreed<CheckpointError>([&] { serialize_state(in, sim, "memory"); });

@@ -292,17 +292,18 @@ box = {{ min = [0.0, 0.0], max = [{3}, {4}] }}
 // the floor carries (rho_s - rho_w) g V, Archimedes, within 1 %, for densities 1500 to 2600 and
 // a block at two depths (measured: +0.03 to +0.10 %). Without the hold the water's pressure on the
 // block's top would press it down by rho_w g d A more (1 to 6 times the buoyant weight here).
-// Under PIC: under FLIP 0.99 the water's particles creep into the block's (docs/formulation.md,
-// the floating body) and the load grows, +1.3 % after 1 s and +4 % after 2 s at 0.3 m, 1500.
-// A 2D case's [simulation] table: 1 s under MUSL with the given FLIP share.
-std::string simulation_2d(double flip) {
-  return fmt::format("[simulation]\ndimension = 2\nend_time = 1.0\ncfl = 0.4\n"
-                     "gravity = [0.0, -9.81]\nscheme = \"musl\"\nflip = {}\n",
-                     flip);
+// Under PIC, and under FLIP with XPIC(2): under FLIP 0.99 alone the water's particles creep into
+// the block's (docs/formulation.md, the floating body) and the load grows, +1.3 % after 1 s and
+// +4 % after 2 s at 0.3 m, 1500; XPIC(2) holds it within 0.1 % to 2 s.
+// A 2D case's [simulation] table: 2 s under MUSL with the given FLIP share and XPIC order.
+std::string simulation_2d(double flip, int xpic = 0) {
+  return fmt::format("[simulation]\ndimension = 2\nend_time = 2.0\ncfl = 0.4\n"
+                     "gravity = [0.0, -9.81]\nscheme = \"musl\"\nflip = {}\nxpic = {}\n",
+                     flip, xpic);
 }
 
-std::string block_in_tank(double rho_s, double depth) {
-  return simulation_2d(0.0) + fmt::format(R"(
+std::string block_in_tank(double rho_s, double depth, int xpic = 0) {
+  return simulation_2d(xpic > 0 ? 1.0 : 0.0, xpic) + fmt::format(R"(
 [grid]
 extent = [1.0, {2}]
 cell_size = 0.025
@@ -346,29 +347,46 @@ friction = 0.5
 [[contact]]
 friction = 0.0
 )",
-                                          rho_s, 0.2 + depth, 0.2 + depth + 0.2);
+                                                                 rho_s, 0.2 + depth,
+                                                                 0.2 + depth + 0.2);
+}
+
+// The floor's mean load from 0.5 s (the start's transient left out) to `end` s.
+double floor_load(double rho_s, double depth, int xpic, double end) {
+  Simulation<2> sim(test::case_from(block_in_tank(rho_s, depth, xpic)));
+  while (sim.time() < 0.5 - 1e-12)
+    sim.step(0.5 - sim.time());
+  sim.reset_force_means();
+  while (sim.time() < end - 1e-12)
+    sim.step(end - sim.time());
+  return sim.contact_record().mean_force(1, 0)[1];
 }
 
 TEST(Fluid, ASubmergedBlockOnTheFloorCarriesItsBuoyantWeight) {
+  // PIC to 1 s at 3 densities x 2 depths; FLIP with XPIC(2) to 2 s at the two extremes.
+  struct Run {
+    double rho_s, depth;
+    int xpic;
+    double end;
+  };
+  std::vector<Run> runs;
   for (const double depth : {0.1, 0.3})
-    for (const double rho_s : {1500.0, 2000.0, 2600.0}) {
-      Simulation<2> sim(test::case_from(block_in_tank(rho_s, depth)));
-      while (sim.time() < 0.5 - 1e-12) // the start's transient
-        sim.step(0.5 - sim.time());
-      sim.reset_force_means();
-      while (sim.time() < 1.0 - 1e-12)
-        sim.step(1.0 - sim.time());
-      const double expected = (rho_s - rho) * g * 0.2 * 0.1;
-      const double carried = sim.contact_record().mean_force(1, 0)[1];
-      const std::string figures = fmt::format(
-          "rho_s {}, {} m under water: the floor carries {:.3f} N/m, (rho_s - rho_w) g V = {:.3f}"
-          " ({:+.2f} %), the water's load on its top rho_w g d A = {:.3f}",
-          rho_s, depth, carried, expected, 100.0 * (carried / expected - 1.0),
-          rho * g * depth * 0.2);
-      std::printf("%s\n", figures.c_str());
-      SCOPED_TRACE(figures);
-      EXPECT_NEAR(carried, expected, 0.01 * expected);
-    }
+    for (const double rho_s : {1500.0, 2000.0, 2600.0})
+      runs.push_back({rho_s, depth, 0, 1.0});
+  runs.push_back({1500.0, 0.3, 2, 2.0});
+  runs.push_back({2600.0, 0.1, 2, 2.0});
+  for (const auto& [rho_s, depth, xpic, end] : runs) {
+    const double carried = floor_load(rho_s, depth, xpic, end);
+    const double expected = (rho_s - rho) * g * 0.2 * 0.1;
+    const std::string figures = fmt::format(
+        "{} to {} s, rho_s {}, {} m under water: the floor carries {:.3f} N/m, (rho_s - rho_w) "
+        "g V = {:.3f} ({:+.2f} %), the water's load on its top rho_w g d A = {:.3f}",
+        xpic > 0 ? "FLIP, XPIC(2)" : "PIC", end, rho_s, depth, carried, expected,
+        100.0 * (carried / expected - 1.0), rho * g * depth * 0.2);
+    std::printf("%s\n", figures.c_str());
+    SCOPED_TRACE(figures);
+    EXPECT_NEAR(carried, expected, 0.01 * expected);
+  }
 }
 
 // An outflow face lets a fluid body's particles out of the run: a column collapsing toward it

@@ -200,6 +200,14 @@ inline const std::vector<GoldenCase>& golden_cases() {
        50,
        200,
        0xe26477e25d120f63ull},
+      // The same three bodies under XPIC(3): v* by two gathers and scatters (their ghosts).
+      {"vaiont_three_xpic",
+       "cases/vaiont/three_bodies.toml",
+       {"grid.cell_size=16", "interface.0.friction.slip=0.02", "interface.0.cohesion.slip=0.02",
+        "simulation.xpic=3"},
+       50,
+       200,
+       0x57904c3bedd3859eull},
       // Five bodies: where orphans appear.
       {"vaiont_five",
        "cases/vaiont/five_bodies.toml",

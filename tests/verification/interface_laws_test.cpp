@@ -29,8 +29,8 @@ constexpr double density = 2000.0, height = 0.5; // the block's; its base is 1 m
 // under its weight with the interface held (0.2 s), so that the run starts from the equilibrium
 // stress the closed form assumes; the clock starts at release.
 template <int D>
-std::string block_on_plane(double theta_deg, double mu, double p, double c = 0.0,
-                           double flip = 1.0) {
+std::string block_on_plane(double theta_deg, double mu, double p, double c = 0.0, double flip = 1.0,
+                           int xpic = 0) {
   const double t = theta_deg * std::numbers::pi / 180.0;
   const bool three = D == 3;
   const std::string gravity =
@@ -44,6 +44,7 @@ cfl = 0.4
 gravity = {1}
 scheme = "musl"
 flip = {11:.3f}
+xpic = {12}
 [grid]
 extent = {2}
 cell_size = 0.1
@@ -74,7 +75,7 @@ settle_time = 0.2
                      three ? "[0.5, 0.3, 0.4]" : "[0.5, 0.4]",
                      three ? "[1.5, 1.3, 0.9]" : "[1.5, 0.9]",
                      three ? "[0.1, 0.1, 0.2]" : "[0.1, 0.2]", density,
-                     three ? "[5.9, 1.5, 0.4]" : "[5.9, 0.4]", mu, p, c, flip);
+                     three ? "[5.9, 1.5, 0.4]" : "[5.9, 0.4]", mu, p, c, flip, xpic);
 }
 
 // The block's mass-weighted velocity along x.
@@ -98,10 +99,11 @@ struct Motion {
 // A block settled, released and (v0 > 0) launched along x at v0.
 template <int D>
 Motion run_block(double theta, double mu, double ratio, double v0, double cohesion = 0.0,
-                 double flip = 1.0) {
+                 double flip = 1.0, int xpic = 0) {
   const double t = theta * std::numbers::pi / 180.0;
   const double sigma_n = density * height * g * std::cos(t);
-  const Case c = test::case_from(block_on_plane<D>(theta, mu, ratio * sigma_n, cohesion, flip));
+  const Case c =
+      test::case_from(block_on_plane<D>(theta, mu, ratio * sigma_n, cohesion, flip, xpic));
   Simulation<D> sim(c);
   test::settle(sim, c);
   const double t0 = sim.time();
@@ -251,33 +253,69 @@ TEST(InterfaceLaws, CohesionActsWholeOnAGridAlignedInterface) {
 // or pushes forward (docs/verification.md, "General parameters"). Under PIC they are within
 // 0.3 % (and general_blocks at flip 0 within 1 %, 41 of its 42 checks within 0.17 %), so the
 // misses are the transfer's, not the law's.
-TEST(InterfaceLaws, TheLawIsExactWhereTheTransferAddsNoNoise) {
-  struct Cell {
-    int dim;
-    double theta, mu, ratio;
-  };
-  std::vector<Cell> cells = {{2, 20.0, 0.35, 0.0}, {3, 20.0, 0.8, 0.6}};
+// The cells FLIP leaves out as known, and the dry block near its limit, under the transfer
+// (flip, xpic), each against the rigid block's closed form: its error, or held.
+struct LawCell {
+  int dim;
+  double theta, mu, ratio;
+  double resistance() const { // mu (1 - ratio) cos / sin: 1 at the friction limit
+    const double t = theta * std::numbers::pi / 180.0;
+    return theta > 0.0 ? mu * (1.0 - ratio) / std::tan(t) : 0.0;
+  }
+};
+
+std::vector<LawCell> flips_known_cells() {
+  std::vector<LawCell> cells = {{2, 20.0, 0.35, 0.0}, {3, 20.0, 0.8, 0.6}};
   for (const double ratio : {0.3, 0.6, 0.9})
     for (const double theta : {0.0, 20.0, 35.0, 50.0})
       for (const double mu : {0.2, 0.5, 0.8})
         if (known_miss(theta, mu, ratio)) cells.push_back({2, theta, mu, ratio});
-  for (const Cell& k : cells) {
-    const double t = k.theta * std::numbers::pi / 180.0;
-    const double a = g * (std::sin(t) - k.mu * (1.0 - k.ratio) * std::cos(t));
-    const double v0 = k.theta == 0.0 ? -1.2 * a : 0.0;
-    const Motion m = k.dim == 2 ? run_block<2>(k.theta, k.mu, k.ratio, v0, 0.0, 0.0)
-                                : run_block<3>(k.theta, k.mu, k.ratio, v0, 0.0, 0.0);
-    const bool slides = a > 0.0 || v0 > 0.0;
-    std::printf("PIC %dD theta %2.0f mu %.2f p/sigma_n %.1f: a %+.4f against %+.4f m/s^2 (%s)\n",
-                k.dim, k.theta, k.mu, k.ratio, m.a, a,
-                slides ? fmt::format("{:+.2f} %", 100 * (m.a / a - 1.0)).c_str()
-                       : fmt::format("held, v {:.4f} m/s", m.v_end).c_str());
-    if (slides)
-      EXPECT_NEAR(m.a / a, 1.0, 0.01)
-          << k.dim << "D theta " << k.theta << ", mu " << k.mu << ", ratio " << k.ratio;
-    else
-      EXPECT_LT(std::abs(m.v_end), 1e-3) << k.dim << "D theta " << k.theta << ", mu " << k.mu;
+  return cells;
+}
+
+// Runs cell k under (flip, xpic) and returns m.a / a - 1 (0 for a block that holds, checked
+// against 1 mm/s of rest).
+double law_error(const LawCell& k, double flip, int xpic, const char* label) {
+  const double t = k.theta * std::numbers::pi / 180.0;
+  const double a = g * (std::sin(t) - k.mu * (1.0 - k.ratio) * std::cos(t));
+  const double v0 = k.theta == 0.0 ? -1.2 * a : 0.0;
+  const Motion m = k.dim == 2 ? run_block<2>(k.theta, k.mu, k.ratio, v0, 0.0, flip, xpic)
+                              : run_block<3>(k.theta, k.mu, k.ratio, v0, 0.0, flip, xpic);
+  const bool slides = a > 0.0 || v0 > 0.0;
+  std::printf("%s %dD theta %2.0f mu %.2f p/sigma_n %.1f (resistance / drive %.2f): a %+.4f "
+              "against %+.4f m/s^2 (%s)\n",
+              label, k.dim, k.theta, k.mu, k.ratio, k.resistance(), m.a, a,
+              slides ? fmt::format("{:+.2f} %", 100 * (m.a / a - 1.0)).c_str()
+                     : fmt::format("held, v {:.4f} m/s", m.v_end).c_str());
+  if (!slides) {
+    EXPECT_LT(std::abs(m.v_end), 1e-3) << k.dim << "D theta " << k.theta << ", mu " << k.mu;
+    return 0.0;
   }
+  return m.a / a - 1.0;
+}
+
+// The law where the transfer adds no noise: every cell the FLIP sweeps above leave out as known
+// (near the friction limit; mu 0.5 and above with p / sigma_n 0.6 and above), and the dry block
+// near its limit, run under PIC (flip 0) against the rigid block's closed form within 1 %, or
+// held. Under FLIP these cells miss by 1-150 %: the particles keep the contact layer's velocity
+// noise from step to step, and a node whose relative velocity that noise brings near zero sticks
+// or pushes forward (docs/verification.md, "General parameters"). Under PIC they are within
+// 0.3 % (and general_blocks at flip 0 within 1 %, 41 of its 42 checks within 0.17 %), so the
+// misses are the transfer's, not the law's.
+TEST(InterfaceLaws, TheLawIsExactWhereTheTransferAddsNoNoise) {
+  for (const LawCell& k : flips_known_cells())
+    EXPECT_NEAR(law_error(k, 0.0, 0, "PIC"), 0.0, 0.01)
+        << k.dim << "D theta " << k.theta << ", mu " << k.mu << ", ratio " << k.ratio;
+}
+
+// XPIC(2) (Hammerquist & Nairn 2017) on the same cells: the particles carry the part of their
+// velocity the grid represents, so the contact layer's noise goes as under PIC while a smooth
+// field keeps FLIP's; momentum is kept. Every cell within 1 % of the closed form, the two at
+// resistance / drive 0.96 included (measured: within 0.86 %, all others within 0.2 %).
+TEST(InterfaceLaws, XpicKeepsTheLawWhereFlipMissesIt) {
+  for (const LawCell& k : flips_known_cells())
+    EXPECT_NEAR(law_error(k, 1.0, 2, "XPIC(2)"), 0.0, 0.01)
+        << k.dim << "D theta " << k.theta << ", mu " << k.mu << ", ratio " << k.ratio;
 }
 
 } // namespace

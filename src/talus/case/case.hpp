@@ -32,6 +32,7 @@ struct SimulationSettings {
   Vec3a gravity{0.0, 0.0, 0.0};
   Scheme scheme = Scheme::musl;
   double flip = 1.0;    // 1 = pure FLIP, 0 = pure PIC
+  int xpic = 0;         // XPIC(m)'s order m; 0: the particles carry their own velocity
   double damping = 0.0; // local (Cundall) damping fraction of the nodal force
 };
 

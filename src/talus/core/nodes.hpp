@@ -30,6 +30,9 @@ struct BodyField {
   std::vector<Vec<D>> v;       // velocity at the start of the step, v_I^n
   std::vector<Vec<D>> v_new;   // velocity at the end of the step, v_I^{n+1} (eq. 20, 31-36)
   std::vector<Vec<D>> v_remap; // MUSL: velocity re-mapped from the updated particles
+  // XPIC(m): the start-of-step velocity with contact, v_c, and then the series' terms
+  // (I - S^+ S)^k v_c (xpic_w); their sum for k = 1 .. m - 1, v* - v_c (xpic_delta).
+  std::vector<Vec<D>> xpic_w, xpic_delta;
   // Interface particles' contributions (paper eq. 37): the slave's cohesive and tensile capacity
   // shared over the nodes where the pair meets (Simulation::share_interface_loads),
   // sum N mu^p A^p and sum N A^p; and the slip rate contact measured against the interface
@@ -60,7 +63,7 @@ struct BodyField {
   // Arrays a run does not use stay empty: no memory, no clearing, no scatter.
   struct Needs {
     bool contact = true, interfaces = true, remap = true, pressure = false, heating = false,
-         hydro = false;
+         hydro = false, xpic = false;
   } needs;
 
   std::size_t size() const { return m.size(); }
@@ -85,6 +88,7 @@ struct BodyField {
     for (auto* a : {&v, &v_new})
       a->resize(n);
     if (needs.remap) v_remap.resize(n);
+    if (needs.xpic) xpic_w.resize(n), xpic_delta.resize(n);
     const std::size_t ns = n * static_cast<std::size_t>(slots);
     // The mapped quantities, each with its length and whether the body keeps it.
     auto each = [&](auto&& act) {

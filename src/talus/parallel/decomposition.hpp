@@ -25,9 +25,10 @@ enum class SlabStart { by_count, even_columns };
 // The columns of ghosts beyond a slab, each side: a node's sum takes the particles of 4 columns
 // (GIMP), contact reads the mass gradient normal_smoothing columns further, and MUSL's re-map and
 // stress pass, or USF's stress pass and force scatter, read a second layer of both (6 +
-// smoothing); one more for the ownership column and one spare.
-inline int ghost_columns(int normal_smoothing) {
-  return 8 + normal_smoothing;
+// smoothing); one more for the ownership column and one spare. XPIC(m)'s m - 1 gathers and
+// scatters of v* read one layer more each.
+inline int ghost_columns(int normal_smoothing, int xpic = 0) {
+  return 8 + normal_smoothing + 2 * (xpic > 1 ? xpic - 1 : 0);
 }
 
 // The column that decides a particle's owner: that of its cell index (x slowest), so that every

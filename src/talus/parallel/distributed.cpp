@@ -36,7 +36,7 @@ void Distributed<D>::init() {
   const Grid<D>& G = sim_.grid();
   for (int d = 1; d < D; ++d)
     cells_per_column_ *= G.cells[d];
-  ghost_width_ = ghost_columns(sim_.setup().normal_smoothing);
+  ghost_width_ = ghost_columns(sim_.setup().normal_smoothing, sim_.setup().xpic);
   record_bytes_ = sizeof(std::uint32_t);
   own_.for_each_array([&](auto& a) { record_bytes_ += sizeof(element_t<decltype(a)>); });
   // The pore pool's entries, in offset order: each runs to the next one.

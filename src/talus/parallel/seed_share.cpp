@@ -71,7 +71,8 @@ SharedSeeding<D> seed_share(const Case& c, MPI_Comm comm, SlabStart start) {
   s.total = out.body_begin.back();
   std::vector<std::int64_t> slab_counts = counts;
   if (start == SlabStart::even_columns) std::fill(slab_counts.begin(), slab_counts.end(), 1);
-  out.bounds = slab_bounds(slab_counts, size, ghost_columns(c.contact.normal_smoothing));
+  out.bounds =
+      slab_bounds(slab_counts, size, ghost_columns(c.contact.normal_smoothing, c.simulation.xpic));
   const std::int64_t lo = out.bounds[rank], hi = out.bounds[rank + 1];
   const std::int64_t from = std::max<std::int64_t>(lo - seed_margin, 0);
   const std::int64_t to = std::min<std::int64_t>(hi + seed_margin, G.cells[0]);
@@ -169,36 +170,37 @@ SharedSeeding<D> seed_share(const Case& c, MPI_Comm comm, SlabStart start) {
 }
 
 template <int D>
-void choose_slab(LoadArchive& ar, const Grid<D>& G, int normal_smoothing, MPI_Comm comm,
-                 RestoredShare& out, SlabStart start) {
+void choose_slab(LoadArchive& ar, const Grid<D>& G, int ghost, MPI_Comm comm, RestoredShare& out,
+                 SlabStart start) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   std::int64_t per_column = 1;
   for (int d = 1; d < D; ++d)
     per_column *= G.cells[d];
-  ar.set_choose([&G, &out, rank, size, per_column, normal_smoothing,
-                 start](std::size_t, const LoadArchive::Scan& scan) {
-    // Each chunk's positions, one column at a time (copied: the bytes need not be aligned).
-    auto columns = [&](auto&& f) {
-      scan([&](std::size_t first, const char* data, std::size_t count) {
-        for (std::size_t i = 0; i < count; ++i) {
-          Vec<D> x;
-          std::memcpy(static_cast<void*>(&x), data + i * sizeof(Vec<D>), sizeof(Vec<D>));
-          f(first + i, owner_column(G, x, per_column));
-        }
+  ar.set_choose(
+      [&G, &out, rank, size, per_column, ghost, start](std::size_t, const LoadArchive::Scan& scan) {
+        // Each chunk's positions, one column at a time (copied: the bytes need not be aligned).
+        auto columns = [&](auto&& f) {
+          scan([&](std::size_t first, const char* data, std::size_t count) {
+            for (std::size_t i = 0; i < count; ++i) {
+              Vec<D> x;
+              std::memcpy(static_cast<void*>(&x), data + i * sizeof(Vec<D>), sizeof(Vec<D>));
+              f(first + i, owner_column(G, x, per_column));
+            }
+          });
+        };
+        std::vector<std::int64_t> counts(static_cast<std::size_t>(G.cells[0]), 0);
+        columns([&](std::size_t, std::int64_t col) { ++counts[col]; });
+        if (start == SlabStart::even_columns) std::fill(counts.begin(), counts.end(), 1);
+        out.bounds = slab_bounds(counts, size, ghost);
+        out.rows.clear();
+        columns([&](std::size_t row, std::int64_t col) {
+          if (slab_owner(out.bounds, col) == rank)
+            out.rows.push_back(static_cast<std::uint32_t>(row));
+        });
+        return out.rows;
       });
-    };
-    std::vector<std::int64_t> counts(static_cast<std::size_t>(G.cells[0]), 0);
-    columns([&](std::size_t, std::int64_t col) { ++counts[col]; });
-    if (start == SlabStart::even_columns) std::fill(counts.begin(), counts.end(), 1);
-    out.bounds = slab_bounds(counts, size, ghost_columns(normal_smoothing));
-    out.rows.clear();
-    columns([&](std::size_t row, std::int64_t col) {
-      if (slab_owner(out.bounds, col) == rank) out.rows.push_back(static_cast<std::uint32_t>(row));
-    });
-    return out.rows;
-  });
 }
 
 template void choose_slab<2>(LoadArchive&, const Grid<2>&, int, MPI_Comm, RestoredShare&,

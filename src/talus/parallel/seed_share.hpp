@@ -36,11 +36,11 @@ struct RestoredShare {
   std::vector<std::uint32_t> rows; // this process's own particles' rows: their global indices
 };
 // Sets `ar` to keep this process's slab (LoadArchive::set_choose); `out` is filled as the
-// particles are read. Reading then throws DecompositionError (a grid too narrow for the
-// processes) on every process alike.
+// particles are read, with `ghost` columns of ghosts each side (ghost_columns). Reading then
+// throws DecompositionError (a grid too narrow for the processes) on every process alike.
 template <int D>
-void choose_slab(LoadArchive& ar, const Grid<D>& G, int normal_smoothing, MPI_Comm comm,
-                 RestoredShare& out, SlabStart start = SlabStart::by_count);
+void choose_slab(LoadArchive& ar, const Grid<D>& G, int ghost, MPI_Comm comm, RestoredShare& out,
+                 SlabStart start = SlabStart::by_count);
 
 // The message of the process with the least key, on every process (keys differ between
 // processes; a process with nothing to say gives no_key); empty if none has one. Collective.

@@ -44,7 +44,9 @@ public:
 
   void read_own_slab(LoadArchive& ar) override {
     restored_.emplace();
-    choose_slab<D>(ar, sim_.grid(), sim_.setup().normal_smoothing, MPI_COMM_WORLD, *restored_);
+    const Setup<D>& s = sim_.setup();
+    choose_slab<D>(ar, sim_.grid(), ghost_columns(s.normal_smoothing, s.xpic), MPI_COMM_WORLD,
+                   *restored_);
   }
   void distribute() override {
     if (dist_) return;

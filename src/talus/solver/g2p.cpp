@@ -1,5 +1,6 @@
 // G2P: the particles' velocity and position from their field (eq. 22-23), and MUSL's re-map of
 // the updated particles' momentum back onto the nodes.
+#include "talus/setup/boundary.hpp"
 #include "talus/setup/interface.hpp"
 #include "talus/solver/detail.hpp"
 #include "talus/solver/scatter.hpp"
@@ -20,8 +21,10 @@ namespace {
 
 // G2P for one particle, eq. 22-23: a rigid body's particle takes the body's velocity; any other
 // the FLIP/PIC blend of its field's velocity change, v_p <- flip (v_p + v^{n+1} - v^n) +
-// (1 - flip) v^{n+1} (interpolated), and moves with (v^n + v^{n+1}) / 2.
-template <int D>
+// (1 - flip) v^{n+1} (interpolated), and moves with (v^n + v^{n+1}) / 2. Under XPIC(m) the
+// particle carries S v* for v_p, against the contact-corrected v_c for v^n:
+// v_p <- v^{n+1} + flip S (v* - v_c).
+template <bool Xpic, int D>
 [[gnu::always_inline]] inline void
 move_particle(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const BodyField<D>& N,
               const ShapeWeights<D>& sw, double flip, double dt) {
@@ -30,12 +33,16 @@ move_particle(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const Bo
     P.x[p] += dt * body.rigid_velocity;
     return;
   }
-  Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero();
+  Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero(), delta = Vec<D>::Zero();
   for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
     v_old += N_I * N.v[I];
     v_new += N_I * N.v_new[I];
+    if constexpr (Xpic) delta += N_I * N.xpic_delta[I];
   });
-  P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
+  if constexpr (Xpic)
+    P.v[p] = v_new + flip * delta;
+  else
+    P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
   P.x[p] += 0.5 * dt * (v_old + v_new);
 }
 
@@ -89,13 +96,19 @@ void Simulation<D>::update_particles(double dt) {
     shape_.require(steps_, particles_.size());
     const BodySetup<D>& body = setup_.bodies[b];
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
+    auto move = [&](auto xpic) {
 #pragma omp parallel for schedule(static)
-    for (std::int64_t p = begin; p < end; ++p) {
-      if (body.fluid && P.m[p] == 0.0) continue; // gone through an outflow face: stays there
-      move_particle(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
-      if (!detail::motion_ok(P, p, lo, hi) && !put_back_on_walls(P, p, body, lo, hi, faces))
-        detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
-    }
+      for (std::int64_t p = begin; p < end; ++p) {
+        if (body.fluid && P.m[p] == 0.0) continue; // gone through an outflow face: stays there
+        move_particle<xpic()>(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
+        if (!detail::motion_ok(P, p, lo, hi) && !put_back_on_walls(P, p, body, lo, hi, faces))
+          detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
+      }
+    };
+    if (setup_.xpic > 0)
+      move(std::true_type{});
+    else
+      move(std::false_type{});
   }
   check_.bad_particle = std::min(check_.bad_particle, gone.load());
 }
@@ -114,18 +127,24 @@ void Simulation<D>::update_particles_and_remap(double dt) {
   std::atomic<std::size_t> gone{StepCheck::no_particle};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
   const GridConditions<D>& faces = setup_.conditions;
-  scatter([&](std::uint32_t p, int b) {
-    BodyField<D>& N = fields_[P.field[p]];
-    const ShapeWeights<D>& sw = shape_.weights[p];
-    if (setup_.bodies[b].fluid && P.m[p] == 0.0) return; // gone through an outflow face
-    move_particle(P, p, setup_.bodies[b], N, sw, flip, dt);
-    if (!detail::motion_ok(P, p, lo, hi) &&
-        !put_back_on_walls(P, p, setup_.bodies[b], lo, hi, faces))
-      detail::record_bad(gone, p, exchange_);
-    const Vec<D> mv_p = P.m[p] * P.v[p];
-    for_each_node(N.box, sw,
-                  [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
-  });
+  auto move_and_remap = [&](auto xpic) {
+    scatter([&](std::uint32_t p, int b) {
+      BodyField<D>& N = fields_[P.field[p]];
+      const ShapeWeights<D>& sw = shape_.weights[p];
+      if (setup_.bodies[b].fluid && P.m[p] == 0.0) return; // gone through an outflow face
+      move_particle<xpic()>(P, p, setup_.bodies[b], N, sw, flip, dt);
+      if (!detail::motion_ok(P, p, lo, hi) &&
+          !put_back_on_walls(P, p, setup_.bodies[b], lo, hi, faces))
+        detail::record_bad(gone, p, exchange_);
+      const Vec<D> mv_p = P.m[p] * P.v[p];
+      for_each_node(N.box, sw,
+                    [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
+    });
+  };
+  if (setup_.xpic > 0)
+    move_and_remap(std::true_type{});
+  else
+    move_and_remap(std::false_type{});
   check_.bad_particle = std::min(check_.bad_particle, gone.load());
   for (int b = 0; b < num_bodies(); ++b) {
     BodyField<D>& N = fields_[b];
@@ -136,8 +155,59 @@ void Simulation<D>::update_particles_and_remap(double dt) {
   }
 }
 
+// XPIC(m) (Hammerquist & Nairn 2017): the particles carry S v*, the part of their velocity the
+// grid represents, instead of their own: v* = sum_{k=0}^{m-1} (I - S^+ S)^k v_c, the m-term series
+// of (S^+ S)^{-1} S^+ v_p, so m = 1 is PIC and m -> infinity FLIP without the velocities the grid
+// cannot represent. v_c is the start-of-step velocity with contact and the velocity conditions
+// (Nairn et al. 2018 correct the extrapolated field too: without it the series sharpens the
+// contact layer's approach, which the contact then takes away again). Each term is one gather
+// and scatter, w <- w - (sum_p N m_p (S w)_p) / M; S^+ S keeps a field's momentum, so the terms
+// carry none and v_p's momentum is v^{n+1}'s. A rigid body's field takes no terms (its v_c is
+// its velocity).
+template <int D>
+void Simulation<D>::extrapolate_xpic_velocity(double dt) {
+  using F = BodyField<D>;
+  auto& P = particles_;
+  const int B = num_bodies();
+  shape_.require(steps_, particles_.size());
+  auto deformable = [&](int b) { return !setup_.bodies[b].rigid && !field_held_[b]; };
+  for (int b = 0; b < B; ++b)
+    if (!field_held_[b]) fields_[b].xpic_w = fields_[b].v;
+  if (B > 1) apply_contact(&F::xpic_w, dt, false);
+  apply_velocity_conditions(&F::xpic_w);
+  for (int b = 0; b < B; ++b)
+    if (deformable(b))
+      std::fill(fields_[b].xpic_delta.begin(), fields_[b].xpic_delta.end(), Vec<D>::Zero());
+  for (int k = 1; k < setup_.xpic; ++k) {
+    for (int b = 0; b < B; ++b)
+      if (deformable(b)) std::fill(fields_[b].p.begin(), fields_[b].p.end(), Vec<D>::Zero());
+    scatter([&](std::uint32_t p, int b) {
+      if (setup_.bodies[b].rigid || !deformable(P.field[p])) return; // an orphan's host too
+      BodyField<D>& N = fields_[P.field[p]];
+      const ShapeWeights<D>& sw = shape_.weights[p];
+      Vec<D> w_p = Vec<D>::Zero();
+      for_each_node(N.box, sw,
+                    [&](std::int64_t I, double N_I, const Vec<D>&) { w_p += N_I * N.xpic_w[I]; });
+      const Vec<D> mw_p = P.m[p] * w_p;
+      for_each_node(N.box, sw,
+                    [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mw_p; });
+    });
+    for (int b = 0; b < B; ++b) {
+      if (!deformable(b)) continue;
+      BodyField<D>& N = fields_[b];
+      const std::int64_t n = static_cast<std::int64_t>(N.size());
+#pragma omp parallel for schedule(static)
+      for (std::int64_t i = 0; i < n; ++i) {
+        N.xpic_w[i] = N.m[i] > 0.0 ? Vec<D>(N.xpic_w[i] - N.p[i] / N.m[i]) : Vec<D>::Zero();
+        N.xpic_delta[i] += N.xpic_w[i];
+      }
+    }
+  }
+}
+
 #define TALUS_INSTANTIATE(D)                                                                       \
   template void Simulation<D>::update_particles(double);                                           \
+  template void Simulation<D>::extrapolate_xpic_velocity(double);                                  \
   template void Simulation<D>::update_particles_and_remap(double);
 TALUS_INSTANTIATE(2)
 TALUS_INSTANTIATE(3)

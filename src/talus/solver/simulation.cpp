@@ -37,6 +37,7 @@ Simulation<D>::Simulation(const Case& c, Seeded<D> seeded) : case_data_(c) {
     N.needs.contact = B > 1;
     N.needs.interfaces = N.slots > 0;
     N.needs.remap = setup_.scheme == Scheme::musl;
+    N.needs.xpic = setup_.xpic > 0;
     N.needs.pressure = setup_.pore_pressure;
     N.needs.heating = setup_.heating;
   }
@@ -108,6 +109,7 @@ void Simulation<D>::step(double dt_limit) {
   // Eq. 31-37: contact on v^{n+1}, recorded (forces, work, contact nodes, slip rates), after the
   // interfaces' pore pressure has pushed each pair apart.
   timed(T.contact), apply_contact(&F::v_new, dt_, true), apply_velocity_conditions(&F::v_new);
+  if (setup_.xpic > 0) timed(T.g2p), extrapolate_xpic_velocity(dt_); // XPIC(m)'s v*
   if (scheme == Scheme::musl) { // eq. 22-23, then the re-map and the stress from it
     timed(T.g2p), update_particles_and_remap(dt_), apply_velocity_conditions(&F::v_remap);
     timed(T.contact), apply_contact(&F::v_remap, dt_, false);

@@ -183,6 +183,8 @@ public:
   // Body b's geometric normal at node g, cached for a body whose geometry stays put; on an edge
   // of its geometry, the normal seen from `from`.
   Vec<D> geometric_normal(int b, const Index<D>& g, const Vec<D>& from);
+  // XPIC(m): each deformable field's v* - v_c from v, by m - 1 gathers and scatters.
+  void extrapolate_xpic_velocity(double dt);
   // G2P of the velocity and position (eq. 22-23), from v and v_new.
   void update_particles(double dt);
   // MUSL's particle update and momentum re-map in one coloured pass, then the re-mapped velocity.
