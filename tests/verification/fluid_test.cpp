@@ -465,5 +465,77 @@ TEST(Fluid, WaterLeavesThroughAnOutflowFace) {
       SimulationError);
 }
 
+// A barge 0.4 x 0.1 m of density rho_s on water 0.3 m deep in a tank 1 m long (2.5 cm cells),
+// its bottom at `bottom`: an impermeable body, buoyed by the water's pressure through contact.
+std::string barge(double rho_s, double bottom) {
+  return simulation_2d(0.0) + fmt::format(R"(
+[grid]
+extent = [1.0, 0.6]
+cell_size = 0.025
+shape_function = "gimp"
+[grid.boundary]
+x_min = "slip"
+x_max = "slip"
+y_min = "slip"
+[[material]]
+name = "water"
+model = "fluid"
+density = 1000.0
+sound_speed = 20.0
+viscosity = 1.0e-3
+[[material]]
+name = "wood"
+density = {0}
+youngs_modulus = 1.0e6
+poisson_ratio = 0.3
+[[body]]
+name = "barge"
+material = "wood"
+box = {{ min = [0.3, {1}], max = [0.7, {2}] }}
+[[body]]
+name = "water"
+material = "water"
+box = {{ min = [0.0, 0.0], max = [1.0, 0.3] }}
+fill_around = true
+[[contact]]
+friction = 0.0
+)",
+                                          rho_s, bottom, bottom + 0.1);
+}
+
+// Archimedes through contact for a body lighter than water: a barge started at the draft its
+// density gives, d = (rho_s / rho_w) H_b, stays there within 1 % for 3 s, at densities 250, 500
+// and 750 (1, 2 and 3 cells of draft: particles are seeded on the lattice of half cells, so a
+// bottom between its rows would start the barge off its draft), under PIC. The draft is read as the
+// water's level less the barge's bottom: the bottom from its centroid (it shortens by 0.05 % of the
+// draft under its own weight), the level from the water's particle volumes, L = (A_w - W_b bottom)
+// / (W - W_b), so that the water's compression (0.4 % at the floor) is not read as the barge
+// sinking. A barge whose weight the water carried wrongly by 1 % would settle 1 % off within the
+// first second (PIC brings one released 31 mm high from -62 % to -19 % of its draft in 1 s).
+// Measured: within 0.4 %. Known limits (docs/formulation.md, the floating body): released off its
+// draft it creeps toward it under PIC (-5.6 % at 6 s from a release 31 mm high, density 500),
+// heaves and sinks under FLIP 0.99, and rises under XPIC(2).
+TEST(Fluid, ABargeFloatsAtTheDraftItsDensityGives) {
+  for (const double rho_s : {250.0, 500.0, 750.0}) {
+    const double H = 0.1, W = 1.0, Wb = 0.4, d0 = rho_s / rho * H;
+    Simulation<2> sim(test::case_from(barge(rho_s, 0.3 - d0)));
+    const auto& P = sim.particles();
+    for (const double t : {1.0, 2.0, 3.0}) {
+      while (sim.time() < t - 1e-12)
+        sim.step(t - sim.time());
+      double m = 0.0, my = 0.0, water = 0.0;
+      for (std::size_t p = P.body_begin[0]; p < P.body_begin[1]; ++p)
+        m += P.m[p], my += P.m[p] * P.x[p][1];
+      for (std::size_t p = P.body_begin[1]; p < P.body_begin[2]; ++p)
+        water += P.vol[p];
+      const double bottom = my / m - 0.5 * H, level = (water - Wb * bottom) / (W - Wb);
+      const double draft = level - bottom;
+      std::printf("rho_s %.0f at %.0f s: draft %.2f mm against %.2f (%+.2f %%)\n", rho_s, t,
+                  1e3 * draft, 1e3 * d0, 100.0 * (draft / d0 - 1.0));
+      EXPECT_NEAR(draft, d0, 0.01 * d0) << "rho_s " << rho_s << " at " << t << " s";
+    }
+  }
+}
+
 } // namespace
 } // namespace talus
