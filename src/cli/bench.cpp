@@ -59,6 +59,12 @@ const std::vector<Problem>& problems() {
        "cases/vaiont/three_bodies_reservoir.toml",
        {"initial_state.settle_time=0"},
        200},
+      // XPIC(2)'s cost: the flagship's problem with the extra gather and scatter and v_c's
+      // contact pass.
+      {"vaiont_reservoir_xpic",
+       "cases/vaiont/three_bodies_reservoir.toml",
+       {"initial_state.settle_time=0", "simulation.xpic=2"},
+       200},
       // A real DEM in 3D: the volcano slide on its rigid flank and band (the step alone).
       {"volcano", "cases/examples/volcano_slide.toml", {"initial_state.settle_time=0"}, 400},
   };

@@ -190,9 +190,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1024))
       ->delimiter(',');
   bench
-      ->add_option("--problems", bench_opt.problems,
-                   "column, column_4x, vaiont, vaiont_3d, column_bspline, vaiont_bspline, "
-                   "vaiont_wet, tank, vaiont_reservoir, volcano (default: column column_4x vaiont)")
+      ->add_option(
+          "--problems", bench_opt.problems,
+          "column, column_4x, vaiont, vaiont_3d, column_bspline, vaiont_bspline, "
+          "vaiont_wet, tank, vaiont_reservoir, vaiont_reservoir_xpic, volcano (default: column "
+          "column_4x vaiont)")
       ->check(CLI::IsMember(talus::bench_problem_names()))
       ->delimiter(',');
   bench->add_option("--json", bench_opt.json_out, "also write the figures as JSON here")
