@@ -302,26 +302,35 @@ std::string simulation_2d(double flip, int xpic = 0) {
                      flip, xpic);
 }
 
-std::string block_in_tank(double rho_s, double depth, int xpic = 0) {
-  return simulation_2d(xpic > 0 ? 1.0 : 0.0, xpic) + fmt::format(R"(
+// A tank 1 m long and `height` high on 2.5 cm cells, slip walls and floor, and the water
+// material (c = 20 m/s) as the case's first.
+std::string tank_and_water(double height) {
+  return fmt::format(R"(
 [grid]
-extent = [1.0, {2}]
+extent = [1.0, {}]
 cell_size = 0.025
 shape_function = "gimp"
 [grid.boundary]
 x_min = "slip"
 x_max = "slip"
 y_min = "slip"
-[initial_state]
-method = "k0"
-[water]
-level = {1}
 [[material]]
 name = "water"
 model = "fluid"
 density = 1000.0
 sound_speed = 20.0
 viscosity = 1.0e-3
+)",
+                     height);
+}
+
+std::string block_in_tank(double rho_s, double depth, int xpic = 0) {
+  return simulation_2d(xpic > 0 ? 1.0 : 0.0, xpic) + tank_and_water(0.2 + depth + 0.2) +
+         fmt::format(R"(
+[initial_state]
+method = "k0"
+[water]
+level = {1}
 [[material]]
 name = "rock"
 density = {0}
@@ -347,8 +356,7 @@ friction = 0.5
 [[contact]]
 friction = 0.0
 )",
-                                                                 rho_s, 0.2 + depth,
-                                                                 0.2 + depth + 0.2);
+                     rho_s, 0.2 + depth);
 }
 
 // The floor's mean load from 0.5 s (the start's transient left out) to `end` s.
@@ -468,21 +476,8 @@ TEST(Fluid, WaterLeavesThroughAnOutflowFace) {
 // A barge 0.4 x 0.1 m of density rho_s on water 0.3 m deep in a tank 1 m long (2.5 cm cells),
 // its bottom at `bottom`: an impermeable body, buoyed by the water's pressure through contact.
 std::string barge(double rho_s, double bottom) {
-  return simulation_2d(0.0) + fmt::format(R"(
-[grid]
-extent = [1.0, 0.6]
-cell_size = 0.025
-shape_function = "gimp"
-[grid.boundary]
-x_min = "slip"
-x_max = "slip"
-y_min = "slip"
-[[material]]
-name = "water"
-model = "fluid"
-density = 1000.0
-sound_speed = 20.0
-viscosity = 1.0e-3
+  return simulation_2d(0.0) + tank_and_water(0.6) +
+         fmt::format(R"(
 [[material]]
 name = "wood"
 density = {0}
@@ -500,7 +495,7 @@ fill_around = true
 [[contact]]
 friction = 0.0
 )",
-                                          rho_s, bottom, bottom + 0.1);
+                     rho_s, bottom, bottom + 0.1);
 }
 
 // Archimedes through contact for a body lighter than water: a barge started at the draft its
