@@ -268,10 +268,19 @@ def main():
     ap.add_argument("--threads", type=int, default=0)
     ap.add_argument("--update-docs", action="store_true",
                     help="write the table into docs/verification.md (between its markers)")
-    ap.add_argument("--also-shape", choices=["linear", "gimp", "bspline"],
-                    help="run every check again with this shape function (a column of the "
-                         "report; its misses do not fail the suite)")
+    also = ap.add_mutually_exclusive_group()
+    also.add_argument("--also-shape", choices=["linear", "gimp", "bspline"],
+                      help="run every check again with this shape function (a column of the "
+                           "report; its misses do not fail the suite)")
+    also.add_argument("--also-set", metavar="KEY=VALUE",
+                      help="run every check again with this key overridden (a column of the "
+                           "report, as --also-shape), e.g. simulation.xpic=2")
     a = ap.parse_args()
+    if a.also_set is not None and ("=" not in a.also_set or a.also_set.startswith("=")):
+        usage_error(f"--also-set {a.also_set}: needs KEY=VALUE")
+    # The second column's override and its label (--also-shape X is grid.shape_function="X").
+    alt_set = (f'grid.shape_function="{a.also_shape}"' if a.also_shape else a.also_set)
+    alt_label = a.also_shape or a.also_set
     level = "full" if a.full else "quick"
     src = Path(a.source).resolve()
     out = Path(a.out)
@@ -309,11 +318,11 @@ def main():
             section["runs"].append({"overrides": list(base) + list(sets), "wall": wall,
                                     "exit": p.returncode})
             alt, alt_failure = None, ""
-            if a.also_shape:  # the same run with the other shape function, beside it
-                alt_folder = out / "runs" / (folder.name + f"_{a.also_shape}")
-                q = talus_run(a, case, alt_folder, list(base) + list(sets) +
-                              [f'grid.shape_function="{a.also_shape}"'])
-                print(f"{case.stem} {label} ({a.also_shape}): exit {q.returncode}", flush=True)
+            if alt_set:  # the same run with the second column's override, beside it
+                alt_folder = out / "runs" / (folder.name + "_" +
+                                             re.sub(r"[^A-Za-z0-9]+", "_", alt_label))
+                q = talus_run(a, case, alt_folder, list(base) + list(sets) + [alt_set])
+                print(f"{case.stem} {label} ({alt_label}): exit {q.returncode}", flush=True)
                 if q.returncode == 0:
                     alt = Run(alt_folder)
                 else:
@@ -330,10 +339,10 @@ def main():
                     r = evaluate(c, run)
                 r["case"] = case.stem
                 r["plot"] = None
-                if a.also_shape:
+                if alt_set:
                     s = evaluate(c, alt) if alt else {"measured": None, "error": alt_failure,
                                                       "status": "ERROR"}
-                    r["alt"] = {"shape": a.also_shape, "measured": s["measured"],
+                    r["alt"] = {"label": alt_label, "measured": s["measured"],
                                 "error": s["error"], "status": s["status"]}
                 rows.append(r)
                 print(f"  {r['status']:>10}  {c['name']}: {r['measured']} (reference "
@@ -366,7 +375,7 @@ def fmt(v):
 
 
 def table_md(rows):
-    alt = next((r["alt"]["shape"] for r in rows if "alt" in r), None)
+    alt = next((r["alt"]["label"] for r in rows if "alt" in r), None)
     extra = f" {alt}: measured | {alt}: error | {alt}: status |" if alt else ""
     lines = ["| case | check | t (s) | measured | reference | error | tolerance | status | "
              "source |" + extra, "|---|---|---|---|---|---|---|---|---|" +
@@ -389,7 +398,7 @@ def write_reports(out, rows, sections, level, elapsed):
             f"{sum(r['status'] in ('FAIL', 'ERROR') for r in rows)} fail; {elapsed:.0f} s")
     alts = [r["alt"] for r in rows if "alt" in r]
     if alts:
-        head += (f"; with {alts[0]['shape']}: "
+        head += (f"; with {alts[0]['label']}: "
                  f"{sum(s['status'] == 'pass' for s in alts)} pass, "
                  f"{sum(s['status'] == 'known miss' for s in alts)} known misses, "
                  f"{sum(s['status'] in ('FAIL', 'ERROR') for s in alts)} fail")
@@ -416,7 +425,7 @@ def write_reports(out, rows, sections, level, elapsed):
     body = [f"<h1>{html.escape(head)}</h1>",
             '<table id="checks"><thead><tr><th>case</th><th>check</th><th>t (s)</th>'
             "<th>measured</th><th>reference</th><th>error</th><th>tolerance</th><th>status</th>"
-            "<th>source</th>" + "".join(f"<th>{html.escape(alts[0]['shape'])}: {h}</th>"
+            "<th>source</th>" + "".join(f"<th>{html.escape(alts[0]['label'])}: {h}</th>"
                                         for h in ("measured", "error", "status") if alts) +
             "</tr></thead><tbody>", *trs, "</tbody></table>"]
     for s in sections:

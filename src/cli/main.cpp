@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
   // verify: the suite lives in tools/verify.py (it drives this program and plots with
   // matplotlib); this subcommand hands over to it.
   std::vector<std::string> verify_cases;
-  std::string verify_out = "verification", source_dir = TALUS_SOURCE_DIR, also_shape;
+  std::string verify_out = "verification", source_dir = TALUS_SOURCE_DIR, also_shape, also_set;
   bool verify_full = false, verify_quick = false, update_docs = false;
   auto* verify = app.add_subcommand(
       "verify", "run every benchmark against its reference and write DIR/report.html");
@@ -223,10 +223,19 @@ int main(int argc, char** argv) {
   verify->add_option("--source", source_dir, "the Talus source folder");
   verify->add_option("--threads", threads, "OpenMP threads per run")->check(CLI::Range(1, 1024));
   verify->add_flag("--update-docs", update_docs, "write the table into docs/verification.md");
+  auto* also_shape_opt =
+      verify
+          ->add_option("--also-shape", also_shape,
+                       "run every check again with this shape function: a column of the report")
+          ->check(CLI::IsMember({"linear", "gimp", "bspline"}));
   verify
-      ->add_option("--also-shape", also_shape,
-                   "run every check again with this shape function: a column of the report")
-      ->check(CLI::IsMember({"linear", "gimp", "bspline"}));
+      ->add_option("--also-set", also_set,
+                   "run every check again with KEY=VALUE overridden (e.g. simulation.xpic=2): a "
+                   "column of the report")
+      ->check([](const std::string& kv) -> std::string {
+        return kv.find('=') == std::string::npos || kv.front() == '=' ? "needs KEY=VALUE" : "";
+      })
+      ->excludes(also_shape_opt);
 
   talus::SweepOptions sweep_opt;
   sweep_opt.source_dir = TALUS_SOURCE_DIR;
@@ -281,6 +290,7 @@ int main(int argc, char** argv) {
     if (threads > 0) args.insert(args.end(), {"--threads", std::to_string(threads)});
     if (update_docs) args.emplace_back("--update-docs");
     if (!also_shape.empty()) args.insert(args.end(), {"--also-shape", also_shape});
+    if (!also_set.empty()) args.insert(args.end(), {"--also-set", also_set});
     if (!verify_cases.empty()) {
       args.emplace_back("--cases");
       args.insert(args.end(), verify_cases.begin(), verify_cases.end());

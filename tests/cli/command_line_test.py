@@ -54,6 +54,9 @@ expect(["check", case, "--set", "simulation.scheme=usf"], 0, "particles")  # a b
 expect(["verify", "--threads", "-1", "--out", str(work / "report")], 2, "--threads")
 expect(["verify", "--cases", "--out", str(work / "report")], 2, "--cases")
 expect(["verify", "--also-shape", "quadratic", "--out", str(work / "report")], 2, "--also-shape")
+expect(["verify", "--also-set", "simulation.xpic", "--out", str(work / "report")], 2, "--also-set")
+expect(["verify", "--also-shape", "bspline", "--also-set", "simulation.xpic=2", "--out",
+        str(work / "report")], 2, "--also-set")
 expect(["check", case, "--set", "grid.shape_function=spline"], 2, "shape_function")
 # A terminal escape in a --set value is not echoed raw by its error.
 p = subprocess.run([talus, "check", case, "--set", "title=\x1b[31mred\x1b[0m"],
