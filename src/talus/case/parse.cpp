@@ -50,9 +50,10 @@ SimulationSettings read_simulation(TableReader& r) {
   s.scheme = scheme == "usf" ? Scheme::usf : scheme == "usl" ? Scheme::usl : Scheme::musl;
   s.flip = r.number("flip", 1.0);
   require(r, "flip", s.flip >= 0.0 && s.flip <= 1.0, "must be in [0, 1] (1 = FLIP, 0 = PIC)");
-  s.xpic = static_cast<int>(r.number("xpic", 0.0));
-  require(r, "xpic", r.number("xpic", 0.0) == s.xpic && s.xpic >= 0 && s.xpic <= 8,
+  const double xpic = r.number("xpic", 0.0); // checked before the cast: a huge value is no int
+  require(r, "xpic", xpic >= 0.0 && xpic <= 8.0 && xpic == std::floor(xpic),
           "must be an integer from 0 (off) to 8");
+  s.xpic = static_cast<int>(xpic);
   s.damping = r.number("damping", 0.0);
   require(r, "damping", s.damping >= 0.0 && s.damping < 1.0, "must be in [0, 1)");
   return s;
