@@ -6,13 +6,19 @@
 
 #include <cmath>
 #include <gtest/gtest.h>
+#include <string>
+#include <vector>
 
 namespace talus {
 namespace {
 
-TEST(SelfWeightColumn, StressMatchesTheOverburden) {
-  const Case c =
-      parse_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/self_weight_column.toml");
+// With the case's GIMP weights and with quadratic B-splines, whose open knots at the grid's faces
+// (the column's walls and floor) leave the face node alone on the face: folding the node beyond
+// a face into the face node instead let the walls hold the column through 7/8 of their node's
+// weight, and sigma_xx came out 12 % of itself low (3 kPa at 2.97 m depth).
+void check_column(const std::vector<std::string>& overrides) {
+  const Case c = parse_case_file(
+      std::string(TALUS_SOURCE_DIR) + "/cases/benchmarks/self_weight_column.toml", overrides);
   Simulation<2> sim(c);
   while (sim.time() < c.simulation.end_time)
     sim.step(c.simulation.end_time - sim.time());
@@ -28,11 +34,19 @@ TEST(SelfWeightColumn, StressMatchesTheOverburden) {
     ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
   }
   std::printf(
-      "self-weight column: max stress error / (rho g H): yy %.4f, xx %.4f; kinetic energy %.3g J\n",
+      "self-weight column: max stress error / (rho g H): yy %.5f, xx %.5f; kinetic energy %.3g J\n",
       worst_yy / (rho * g * H), worst_xx / (rho * g * H), ke);
   EXPECT_LT(worst_yy / (rho * g * H), 0.02);
   EXPECT_LT(worst_xx / (rho * g * H), 0.02);
   EXPECT_LT(ke, 1e-6 * rho * g * H * H); // at rest
+}
+
+TEST(SelfWeightColumn, StressMatchesTheOverburden) {
+  check_column({});
+}
+
+TEST(SelfWeightColumn, StressMatchesTheOverburdenWithBSplines) {
+  check_column({"grid.shape_function=\"bspline\""});
 }
 
 } // namespace

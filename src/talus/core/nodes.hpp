@@ -22,6 +22,8 @@ struct BodyField {
   // itself). Shape weights are taken relative to its origin, so they are one process's bits.
   Grid<D> frame;
   Index<D> frame_offset{};
+  // The grid's first and last nodes in the frame's numbering (the B-spline's faces).
+  Index<D> face_lo{}, face_hi{};
   std::vector<double> m;       // mass M_I (eq. 14)
   std::vector<Vec<D>> p;       // momentum p_I (eq. 16); MUSL: re-mapped from updated particles
   std::vector<Vec<D>> f;       // internal + external force (eq. 17-18)
@@ -80,6 +82,8 @@ struct BodyField {
            const Index<D>& lo, const Index<D>& hi) {
     frame_offset = frame_lo;
     frame = sub_grid(grid, frame_lo, frame_hi);
+    for (int d = 0; d < D; ++d)
+      face_lo[d] = -frame_lo[d], face_hi[d] = grid.nodes[d] - 1 - frame_lo[d];
     offset = lo;
     box = sub_grid(grid, lo, hi);
     std::size_t n = 1;
@@ -127,7 +131,7 @@ struct BodyField {
   // The shape weights of the point x, taken on the frame and indexed in the stored box: every
   // node of a particle's support lies in the box or outside the grid (zero weight, clamped).
   void weights(ShapeWeights<D>& sw, ShapeKind kind, const GimpFactors& f, const Vec<D>& x) const {
-    evaluate_shape(sw, frame, kind, f, x);
+    evaluate_shape(sw, frame, kind, f, x, face_lo.data(), face_hi.data());
     for (int d = 0; d < D; ++d)
       sw.base[d] += frame_offset[d] - offset[d];
   }

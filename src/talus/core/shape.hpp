@@ -5,14 +5,15 @@
 
 #include "talus/core/grid.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace talus {
 
 enum class ShapeKind { linear, gimp, bspline };
 
-// Up to 3 nodes per direction (GIMP, B-spline); linear uses 2, and a B-spline 2 at a face of the
-// grid (its node beyond the face folded into the face's). GIMP's support holds 3 nodes in a
+// Up to 3 nodes per direction (GIMP, B-spline); linear uses 2, and a B-spline 2 only on a grid of
+// one cell in that direction (bspline_1d). GIMP's support holds 3 nodes in a
 // direction only while the particle's domain (half-width lp) straddles a node line; otherwise
 // the third node's weight is exactly zero and the record keeps 2 (k[d]), so the transfers visit
 // the nodes with weight and no others (with lp = h/4: 2.5 x 2.5 of the 3 x 3 nodes on average in
@@ -63,31 +64,80 @@ inline void gimp_1d(double r, double h, double lp, double& w, double& dw) {
   gimp_1d(r, GimpFactors(h, lp), w, dw);
 }
 
-// The quadratic B-spline in direction d (Steffen, Kirby & Berzins 2008) at xi = (x - origin) / h:
-// the nodes base, base + 1, base + 2 with base = floor(xi - 1/2) and s = xi - base in [1/2, 3/2),
+// The quadratic B-spline in direction d (Steffen, Kirby & Berzins 2008) at xi = (x - origin) / h,
+// with the grid's faces at nodes lo <= 0 and hi of this grid's numbering. Inside, the uniform
+// B-spline of each node (knots at the cell centres around it): the nodes base, base + 1,
+// base + 2 with base = floor(xi - 1/2) and s = xi - base in [1/2, 3/2),
 //   N_0 = (3/2 - s)^2 / 2,  N_1 = 3/4 - (s - 1)^2,  N_2 = (s - 1/2)^2 / 2,
-// C1 across cell faces, summing to 1 with sum N_i x_i = x (linear fields reproduced). At a face
-// of the grid the node beyond it is folded into the face node (N_face + N_beyond, and likewise
-// the derivatives), so the weights still sum to 1 and their gradients to 0 there: the face node
-// carries what a wall at the face holds.
+// C1 across cell faces, summing to 1 with sum N_i x_i = x (linear fields reproduced). Within
+// 5/2 cells of a face, the B-splines of the open knot vector (Piegl & Tiller 1997, ch. 2): the
+// interior's knots with the two nearest the face replaced by a triple knot on it,
+//   t_j = 0 (j <= 2),  j - 3/2 (3 <= j <= n),  n (j >= n + 1)   (cells from the lower face),
+// node i's function on knots t_i .. t_{i+3}. Still one function per node, C1, non-negative and a
+// partition of unity, and at the face only the face node has weight (N_i(0) = 1 for i = 0 and 0
+// otherwise): a wall at the face holds the material there through its node, and a uniform
+// stress puts no force on the nodes behind it. Linear fields are reproduced through each node's
+// Greville point (t_{i+1} + t_{i+2}) / 2, which is the node itself except for the second node from
+// a face (3/4 of a cell in). A grid of one cell in a direction folds the outer nodes instead.
+namespace shape_detail {
+
+// Knot j of the open knot vector over n >= 2 cells.
+inline double open_knot(std::int64_t j, std::int64_t n) {
+  if (j <= 2) return 0.0;
+  if (j >= n + 1) return static_cast<double>(n);
+  return static_cast<double>(j) - 1.5;
+}
+
+} // namespace shape_detail
+
 template <int D>
-inline void bspline_1d(ShapeWeights<D>& sw, int d, double xi, std::int64_t nodes, double inv_h) {
-  const auto base = static_cast<std::int64_t>(std::floor(xi - 0.5));
-  const double s = xi - static_cast<double>(base);
+inline void bspline_1d(ShapeWeights<D>& sw, int d, double xi, std::int64_t lo, std::int64_t hi,
+                       double inv_h) {
   double* w = sw.w[d];
   double* dw = sw.dw[d];
+  const std::int64_t n = hi - lo;
+  const double t = xi - static_cast<double>(lo); // cells from the lower face
+  if (n >= 2 && (t < 2.5 || t >= static_cast<double>(n) - 2.5)) {
+    using shape_detail::open_knot;
+    const double u = std::clamp(t, 0.0, static_cast<double>(n));
+    // The knot span t_s <= u < t_{s+1} (the last span holds u = n); functions s - 2 .. s.
+    const std::int64_t s =
+        u < open_knot(3, n) ? 2 : std::min(static_cast<std::int64_t>(std::floor(u + 1.5)), n);
+    const double k0 = open_knot(s - 1, n), k1 = open_knot(s, n), k2 = open_knot(s + 1, n),
+                 k3 = open_knot(s + 2, n);
+    // Cox-de Boor: the degree-1 functions of the span, then degree 2.
+    const double a = (k2 - u) / (k2 - k1), b = (u - k1) / (k2 - k1); // N_{s-1,1}, N_{s,1}
+    const double left = k2 - k0, right = k3 - k1;
+    w[0] = (k2 - u) / left * a;
+    w[2] = (u - k1) / right * b;
+    w[1] = (u - k0) / left * a + (k3 - u) / right * b;
+    // N'_{i,2} = 2 (N_{i,1} / (t_{i+2} - t_i) - N_{i+1,1} / (t_{i+3} - t_{i+1})).
+    dw[0] = -2.0 * a / left * inv_h;
+    dw[1] = 2.0 * (a / left - b / right) * inv_h;
+    dw[2] = 2.0 * b / right * inv_h;
+    sw.base[d] = lo + s - 2, sw.k[d] = 3;
+    return;
+  }
+  const auto base = static_cast<std::int64_t>(std::floor(xi - 0.5));
+  const double s = xi - static_cast<double>(base);
   w[0] = 0.5 * (1.5 - s) * (1.5 - s), dw[0] = (s - 1.5) * inv_h;
   w[1] = 0.75 - (s - 1.0) * (s - 1.0), dw[1] = -2.0 * (s - 1.0) * inv_h;
   w[2] = 0.5 * (s - 0.5) * (s - 0.5), dw[2] = (s - 0.5) * inv_h;
   sw.base[d] = base, sw.k[d] = 3;
-  if (base < 0) { // node -1 lies beyond the lower face: fold it into node 0
+  if (base < lo) { // one cell: node lo - 1 lies beyond the lower face, folded into node lo
     w[0] += w[1], dw[0] += dw[1];
     w[1] = w[2], dw[1] = dw[2];
-    sw.base[d] = 0, sw.k[d] = 2;
-  } else if (base + 2 >= nodes) { // node `nodes` lies beyond the upper face
+    sw.base[d] = lo, sw.k[d] = 2;
+  } else if (base + 2 > hi) { // node hi + 1 lies beyond the upper face
     w[1] += w[2], dw[1] += dw[2];
     sw.k[d] = 2;
   }
+}
+
+// The same on a grid whose faces are its first and last nodes.
+template <int D>
+inline void bspline_1d(ShapeWeights<D>& sw, int d, double xi, std::int64_t nodes, double inv_h) {
+  bspline_1d(sw, d, xi, 0, nodes - 1, inv_h);
 }
 
 // Weights of the particle at x, with the GIMP factors of its half-width lp (GimpFactors(h, lp);
@@ -96,9 +146,12 @@ inline void bspline_1d(ShapeWeights<D>& sw, int d, double xi, std::int64_t nodes
 // particle of a body: taking them once per body saves five divisions per particle.
 // Written in place (the solver's per-particle cache), not returned: a returned record was built
 // on the stack and copied, 120 bytes per particle per step in 2D.
+// The grid's faces are at nodes face_lo[d] <= 0 and face_hi[d] of `grid`'s numbering (a body's
+// frame is part of the grid; only the B-spline asks where the faces are).
 template <int D>
 inline void evaluate_shape(ShapeWeights<D>& sw, const Grid<D>& grid, ShapeKind kind,
-                           const GimpFactors& f, const Vec<D>& x) {
+                           const GimpFactors& f, const Vec<D>& x, const std::int64_t* face_lo,
+                           const std::int64_t* face_hi) {
   const double inv_h = f.inv_h;
   if (kind == ShapeKind::linear) {
     for (int d = 0; d < D; ++d) {
@@ -119,7 +172,7 @@ inline void evaluate_shape(ShapeWeights<D>& sw, const Grid<D>& grid, ShapeKind k
   }
   if (kind == ShapeKind::bspline) {
     for (int d = 0; d < D; ++d)
-      bspline_1d(sw, d, (x[d] - grid.origin[d]) * inv_h, grid.nodes[d], inv_h);
+      bspline_1d(sw, d, (x[d] - grid.origin[d]) * inv_h, face_lo[d], face_hi[d], inv_h);
     return;
   }
   for (int d = 0; d < D; ++d) {
@@ -146,6 +199,16 @@ inline void evaluate_shape(ShapeWeights<D>& sw, const Grid<D>& grid, ShapeKind k
       sw.k[d] = 2;
     }
   }
+}
+
+// On a whole grid: its faces are its first and last nodes.
+template <int D>
+inline void evaluate_shape(ShapeWeights<D>& sw, const Grid<D>& grid, ShapeKind kind,
+                           const GimpFactors& f, const Vec<D>& x) {
+  Index<D> lo{}, hi{};
+  for (int d = 0; d < D; ++d)
+    hi[d] = grid.nodes[d] - 1;
+  evaluate_shape(sw, grid, kind, f, x, lo.data(), hi.data());
 }
 
 template <int D>

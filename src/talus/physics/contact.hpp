@@ -47,11 +47,13 @@ struct ContactNode {
 // Settings of the contact law.
 struct ContactLaw {
   // Gap check (Nairn 2013's position check): a body is in contact only if the mean nodal position
-  // of the others lies within gap_cutoff cells of its own along the normal. Two bodies touching
-  // across a node, sampled with 2 particles per cell, sit 0.75 cells apart; a negative cutoff
-  // switches the check off (contact on approach alone, eq. 29).
+  // of the others lies within gap_cutoff gap units of its own along the normal. Two bodies
+  // touching across a node, sampled with 2 particles per cell, sit 0.75 cells apart with linear
+  // and GIMP weights; a negative cutoff switches the check off (contact on approach alone,
+  // eq. 29). The unit is the cell for those and 9/8 of it for the quadratic B-spline, whose
+  // wider weights put the two bodies' mean positions 27/32 of a cell apart there.
   double gap_cutoff = 0.8;
-  double cell_size = 1.0;
+  double gap_unit = 1.0;
 };
 
 // The contact normal at the node, outward from body k, unnormalised (zero: none). A rigid body's
@@ -133,7 +135,7 @@ bool resolve_contact(ContactNode<D>& node, const ContactLaw& law, double dt = 0.
       if (law.gap_cutoff >= 0.0) {
         const double m_other = M - node.m[k];
         const Vec<D> x_other = (MX - node.m[k] * node.x[k]) / m_other;
-        if ((x_other - node.x[k]).dot(normal) > law.gap_cutoff * law.cell_size) continue;
+        if ((x_other - node.x[k]).dot(normal) > law.gap_cutoff * law.gap_unit) continue;
       }
     }
     // Normal: remove the approach; a bond also removes a separation up to its tensile capacity.

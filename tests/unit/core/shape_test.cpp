@@ -1,10 +1,11 @@
 // Shape functions: partition of unity, gradients summing to zero, and exact reproduction of a
 // linear field and its gradient, for linear, GIMP and quadratic B-spline kernels in 2D and 3D;
-// the B-spline's pieces, its continuity, and its folded faces.
+// the B-spline's pieces, its continuity, and its open knots at the grid's faces.
 #include "talus/core/shape.hpp"
 
 #include <gtest/gtest.h>
 #include <random>
+#include <vector>
 
 namespace talus {
 namespace {
@@ -24,15 +25,17 @@ TYPED_TEST(ShapeTest, PartitionOfUnityAndLinearReproduction) {
   constexpr int D = TypeParam::value;
   const Grid<D> grid = test_grid<D>();
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-0.4, 2.4); // away from the grid's edge
-  const Vec<D> a = Vec<D>::LinSpaced(0.3, 1.7);        // linear field f(x) = c + a.x
+  // Away from the grid's edge (the faces at -1 and 3, cells of 0.5); the B-spline's open knots
+  // reach 2.5 cells in from a face (BSplineIsAnOpenSplineAtTheGridsFaces).
+  std::uniform_real_distribution<double> u(-0.4, 2.4), u_bspline(0.25, 1.75);
+  const Vec<D> a = Vec<D>::LinSpaced(0.3, 1.7); // linear field f(x) = c + a.x
   const double c = 0.25;
   for (ShapeKind kind : {ShapeKind::linear, ShapeKind::gimp, ShapeKind::bspline}) {
     for (double lp : {0.125, 0.25 / 3.0, 0.0625}) {
       for (int trial = 0; trial < 200; ++trial) {
         Vec<D> x;
         for (int d = 0; d < D; ++d)
-          x[d] = u(rng);
+          x[d] = kind == ShapeKind::bspline ? u_bspline(rng) : u(rng);
         const ShapeWeights<D> sw = evaluate_shape(grid, kind, lp, x);
         double sum = 0.0, f = 0.0;
         Vec<D> grad_sum = Vec<D>::Zero(), grad_f = Vec<D>::Zero();
@@ -110,12 +113,101 @@ TEST(BSpline1D, WeightsAndSlopesAreContinuous) {
   }
 }
 
-// At the grid's faces the node beyond is folded into the face node: still a partition of unity
-// with gradients summing to zero, every node inside the grid, and only 2 nodes in that direction.
+// The open knot vector of a grid of n cells (n >= 2), in cells from the lower face: triple knots
+// on the faces, the cell centres between, less the two nearest each face.
+std::vector<double> open_knots(int n) {
+  std::vector<double> t{0.0, 0.0, 0.0};
+  for (int j = 3; j <= n; ++j)
+    t.push_back(j - 1.5);
+  t.insert(t.end(), 3, static_cast<double>(n));
+  return t;
+}
+
+// Node i's B-spline on knots t_i .. t_{i+3} by the Cox-de Boor recursion (0 / 0 = 0): an
+// evaluation independent of bspline_1d's.
+double cox_de_boor(const std::vector<double>& t, int i, int p, double x, bool last_span) {
+  if (p == 0) {
+    if (t[i] <= x && x < t[i + 1]) return 1.0;
+    // x on the upper face belongs to the last non-empty span
+    return last_span && x == t[i + 1] && t[i] < t[i + 1] && x == t.back() ? 1.0 : 0.0;
+  }
+  double v = 0.0;
+  if (t[i + p] > t[i]) v += (x - t[i]) / (t[i + p] - t[i]) * cox_de_boor(t, i, p - 1, x, last_span);
+  if (t[i + p + 1] > t[i + 1])
+    v +=
+        (t[i + p + 1] - x) / (t[i + p + 1] - t[i + 1]) * cox_de_boor(t, i + 1, p - 1, x, last_span);
+  return v;
+}
+
+// Within 5/2 cells of a face the B-spline is that of the open knot vector: each node's weight is
+// the Cox-de Boor recursion's, the weights sum to 1 and their slopes to 0, only the face node has
+// weight on the face, linear fields are reproduced through the Greville points (t_{i+1} +
+// t_{i+2}) / 2, and the weights and slopes are continuous across every knot, inside the faces'
+// spans and where they meet the uniform ones. Grids of 2 to 8 cells, the faces at several
+// positions of the numbering (a body's frame starts inside the grid).
+TEST(BSpline1D, IsAnOpenSplineAtTheGridsFaces) {
+  for (const int n : {2, 3, 4, 5, 8}) {
+    const std::vector<double> t = open_knots(n);
+    for (const std::int64_t lo : {0, -3}) {
+      const std::int64_t hi = lo + n;
+      auto weights = [&](double xi) {
+        ShapeWeights<1> sw;
+        bspline_1d(sw, 0, xi, lo, hi, 1.0);
+        return sw;
+      };
+      for (int step = 0; step <= 40 * n; ++step) {
+        const double cells = n * step / (40.0 * n); // from the lower face
+        const ShapeWeights<1> sw = weights(static_cast<double>(lo) + cells);
+        double sum = 0.0, slope = 0.0, greville = 0.0, greville_slope = 0.0;
+        for (int a = 0; a < sw.k[0]; ++a) {
+          const int i = static_cast<int>(sw.base[0] - lo) + a; // node from the lower face
+          ASSERT_GE(i, 0);
+          ASSERT_LE(i, n);
+          EXPECT_GE(sw.w[0][a], 0.0);
+          EXPECT_NEAR(sw.w[0][a], cox_de_boor(t, i, 2, cells, true), 1e-14)
+              << "n " << n << ", node " << i << " at " << cells;
+          const double g = 0.5 * (t[i + 1] + t[i + 2]);
+          sum += sw.w[0][a], slope += sw.dw[0][a];
+          greville += g * sw.w[0][a], greville_slope += g * sw.dw[0][a];
+        }
+        EXPECT_NEAR(sum, 1.0, 1e-14);
+        EXPECT_NEAR(slope, 0.0, 1e-13);
+        EXPECT_NEAR(greville, cells, 1e-13);
+        EXPECT_NEAR(greville_slope, 1.0, 1e-13);
+        if (cells == 0.0 || cells == n) { // on a face: the face node alone
+          for (int a = 0; a < sw.k[0]; ++a) {
+            const std::int64_t node = sw.base[0] + a;
+            EXPECT_EQ(sw.w[0][a], node == (cells == 0.0 ? lo : hi) ? 1.0 : 0.0);
+          }
+        }
+      }
+      // Continuity across the knots (and where the uniform spans begin, 5/2 cells in).
+      const double eps = 1e-9;
+      for (const double knot : {1.5, 2.5, n - 2.5, n - 1.5}) {
+        if (knot <= 0.0 || knot >= n) continue;
+        const double xi = static_cast<double>(lo) + knot;
+        const ShapeWeights<1> below = weights(xi - eps), above = weights(xi + eps);
+        auto at = [](const ShapeWeights<1>& sw, std::int64_t node, const double(&v)[3]) {
+          const std::int64_t a = node - sw.base[0];
+          return a >= 0 && a < sw.k[0] ? v[a] : 0.0;
+        };
+        for (std::int64_t node = lo; node <= hi; ++node) {
+          EXPECT_NEAR(at(below, node, below.w[0]), at(above, node, above.w[0]), 1e-8)
+              << "n " << n << ", node " << node << " across " << knot;
+          EXPECT_NEAR(at(below, node, below.dw[0]), at(above, node, above.dw[0]), 1e-8)
+              << "n " << n << ", node " << node << " across " << knot;
+        }
+      }
+    }
+  }
+}
+
+// The faces in 2D and 3D: every node inside the grid, a partition of unity with gradients summing
+// to zero, and on a face only the nodes on it have weight.
 TYPED_TEST(ShapeTest, BSplineKeepsAPartitionOfUnityAtTheGridsFaces) {
   constexpr int D = TypeParam::value;
   const Grid<D> grid = test_grid<D>();
-  for (const double offset : {0.0, 0.05, 0.2, 0.2499}) {
+  for (const double offset : {0.0, 0.05, 0.2, 0.2499, 0.7, 1.2}) {
     for (const bool upper : {false, true}) {
       const Vec<D> x = upper ? Vec<D>(grid.origin + Vec<D>::Constant(4.0 - offset))
                              : Vec<D>(grid.origin + Vec<D>::Constant(offset));
@@ -126,11 +218,11 @@ TYPED_TEST(ShapeTest, BSplineKeepsAPartitionOfUnityAtTheGridsFaces) {
         EXPECT_GE(I, 0);
         EXPECT_LT(I, grid.num_nodes());
         sum += N, grad += g;
+        if (offset == 0.0 && N != 0.0) // on the face's corner node only
+          EXPECT_EQ(grid.node_position(grid.node_coords(I)), x);
       });
       EXPECT_NEAR(sum, 1.0, 1e-14) << "offset " << offset << (upper ? " upper" : " lower");
       EXPECT_LT(grad.norm(), 1e-12);
-      for (int d = 0; d < D; ++d)
-        EXPECT_EQ(sw.k[d], 2);
     }
   }
 }
