@@ -218,8 +218,9 @@ TYPED_TEST(ShapeTest, BSplineKeepsAPartitionOfUnityAtTheGridsFaces) {
         EXPECT_GE(I, 0);
         EXPECT_LT(I, grid.num_nodes());
         sum += N, grad += g;
-        if (offset == 0.0 && N != 0.0) // on the face's corner node only
+        if (offset == 0.0 && N != 0.0) { // on the face's corner node only
           EXPECT_EQ(grid.node_position(grid.node_coords(I)), x);
+        }
       });
       EXPECT_NEAR(sum, 1.0, 1e-14) << "offset " << offset << (upper ? " upper" : " lower");
       EXPECT_LT(grad.norm(), 1e-12);
