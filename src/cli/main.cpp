@@ -221,7 +221,11 @@ int main(int argc, char** argv) {
   verify->add_option("--out", verify_out, "report folder (default: verification)");
   auto* cases_opt = verify->add_option("--cases", verify_cases, "only these cases (file stems)");
   verify->add_option("--source", source_dir, "the Talus source folder");
-  verify->add_option("--threads", threads, "OpenMP threads per run")->check(CLI::Range(1, 1024));
+  verify
+      ->add_option("--threads", threads,
+                   "at most this many OpenMP threads per run (each takes one per 25,000 "
+                   "particles, as talus run does)")
+      ->check(CLI::Range(1, 1024));
   verify->add_flag("--update-docs", update_docs, "write the table into docs/verification.md");
   auto* also_shape_opt =
       verify

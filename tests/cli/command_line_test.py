@@ -58,6 +58,18 @@ expect(["verify", "--also-set", "simulation.xpic", "--out", str(work / "report")
 expect(["verify", "--also-shape", "bspline", "--also-set", "simulation.xpic=2", "--out",
         str(work / "report")], 2, "--also-set")
 expect(["check", case, "--set", "grid.shape_function=spline"], 2, "shape_function")
+# verify --threads is a cap: a case of a few thousand particles runs on one thread, as a plain
+# `talus run` picks (one per 25,000 particles), not on the two asked for.
+p = subprocess.run([talus, "verify", "--cases", "self_weight_column", "--threads", "2", "--source",
+                    str(source), "--out", str(work / "capped")], capture_output=True, text=True,
+                   timeout=300)
+used = sorted({json.loads(s.read_text())["threads"]
+               for s in (work / "capped" / "runs").glob("*/summary.json")})
+ok = p.returncode == 0 and used == [1]
+print(("ok   " if ok else "FAIL ") + f"verify --threads 2 on self_weight_column: exit {p.returncode}, "
+      f"threads per run {used}")
+if not ok:
+    failures.append("verify --threads cap")
 # A terminal escape in a --set value is not echoed raw by its error.
 p = subprocess.run([talus, "check", case, "--set", "title=\x1b[31mred\x1b[0m"],
                    capture_output=True, text=True, timeout=30)
