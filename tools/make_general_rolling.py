@@ -50,12 +50,11 @@ def known(theta, mu, regime, cells):
     """Rolling cells reported, not failed: node-by-node contact on a curved body."""
     if regime != "rolls" or (cells, theta, mu) in ROLLING_HOLDS:
         return ""
-    return ("rolling through node-by-node contact: each node of the contact patch is stopped at "
-            "the velocity of its material's mass centre, above the contact point, where a rigid "
-            "disk is still at one point only, so the patch holds the disk back (more nodes in "
-            "it at finer cells), and the node ahead of the contact point takes the turning "
-            "disk's approach as an impulse (a bounce); docs/verification.md, \\\"General "
-            "parameters: rolling\\\"")
+    return ("rolling through node-by-node contact: the node ahead of the contact point takes "
+            "the turning disk's approach as normal impulse, a torque against the rolling (and a "
+            "bounce), and each node of the contact patch is stopped at its material's mass "
+            "centre, above the contact point, which locks the disk on finer grids; "
+            "docs/verification.md, \\\"General parameters: rolling\\\"")
 
 
 def check(theta, mu, regime, cells):
