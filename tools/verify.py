@@ -34,6 +34,7 @@ import subprocess
 import sys
 import time
 import tomllib
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import matplotlib
@@ -249,9 +250,19 @@ def talus_run(a, case, folder, overrides):
     for s in overrides:
         cmd += ["--set", s]
     env = None
-    if a.threads:
-        env = dict(os.environ, OMP_NUM_THREADS=str(a.threads))
+    cap = run_thread_cap(a)
+    if cap:
+        env = dict(os.environ, OMP_NUM_THREADS=str(cap))
     return subprocess.run(cmd, capture_output=True, text=True, stdin=subprocess.DEVNULL, env=env)
+
+
+def run_thread_cap(a):
+    """The most threads a run may take (0: no cap): --threads, and with --jobs N the cores over N,
+    so that N runs at once do not share a core."""
+    caps = [a.threads] if a.threads else []
+    if a.jobs > 1:
+        caps.append(max(1, (os.cpu_count() or 1) // a.jobs))
+    return min(caps) if caps else 0
 
 
 def usage_error(message):
@@ -270,6 +281,7 @@ def main():
     ap.add_argument("--out", default="verification")
     ap.add_argument("--cases", nargs="*", help="only these case names (file stems)")
     ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--update-docs", action="store_true",
                     help="write the table into docs/verification.md (between its markers)")
     also = ap.add_mutually_exclusive_group()
@@ -280,6 +292,10 @@ def main():
                       help="run every check again with this key overridden (a column of the "
                            "report, as --also-shape), e.g. simulation.xpic=2")
     a = ap.parse_args()
+    if a.jobs < 1:
+        usage_error(f"--jobs {a.jobs}: needs at least 1")
+    if a.threads < 0:
+        usage_error(f"--threads {a.threads}: needs at least 1")
     if a.also_set is not None and ("=" not in a.also_set or a.also_set.startswith("=")):
         usage_error(f"--also-set {a.also_set}: needs KEY=VALUE")
     # The second column's override and its label (--also-shape X is grid.shape_function="X").
@@ -302,6 +318,16 @@ def main():
     except OSError as e:
         usage_error(f"--out {out}: cannot make the report folder: {e.strerror}")
     rows, sections, started = [], [], time.time()
+
+    def timed_run(case, folder, overrides):
+        t0 = time.time()
+        p = talus_run(a, case, folder, overrides)
+        return p, time.time() - t0
+
+    # Every run is handed to the pool up front (--jobs of them at once) and read back in the
+    # suite's order, so the report is the same whatever the number of jobs.
+    pool = ThreadPoolExecutor(max_workers=a.jobs)
+    plan = []
     for case in cases:
         doc = tomllib.loads(case.read_text())
         checks = doc.get("check", [])
@@ -311,21 +337,29 @@ def main():
         groups = {}
         for c in checks:
             groups.setdefault(tuple(c.get("set", [])), []).append(c)
-        section = {"case": case.stem, "title": doc.get("title", ""), "plots": [], "runs": []}
+        runs = []
         for k, (sets, group) in enumerate(groups.items()):
-            label = ", ".join(sets)
             folder = out / "runs" / (case.stem + (f"_{k}" if len(groups) > 1 else ""))
-            t0 = time.time()
-            p = talus_run(a, case, folder, list(base) + list(sets))
-            wall = time.time() - t0
+            overrides = list(base) + list(sets)
+            main_run = pool.submit(timed_run, case, folder, overrides)
+            alt_folder = alt_run = None
+            if alt_set:  # the same run with the second column's override, beside it
+                alt_folder = out / "runs" / (folder.name + "_" +
+                                             re.sub(r"[^A-Za-z0-9]+", "_", alt_label))
+                alt_run = pool.submit(timed_run, case, alt_folder, overrides + [alt_set])
+            runs.append((sets, group, folder, main_run, alt_folder, alt_run))
+        plan.append((case, doc, base, runs))
+    for case, doc, base, runs in plan:
+        section = {"case": case.stem, "title": doc.get("title", ""), "plots": [], "runs": []}
+        for sets, group, folder, main_run, alt_folder, alt_run in runs:
+            label = ", ".join(sets)
+            p, wall = main_run.result()
             print(f"{case.stem} {label}: exit {p.returncode}, {wall:.1f} s", flush=True)
             section["runs"].append({"overrides": list(base) + list(sets), "wall": wall,
                                     "exit": p.returncode})
             alt, alt_failure = None, ""
-            if alt_set:  # the same run with the second column's override, beside it
-                alt_folder = out / "runs" / (folder.name + "_" +
-                                             re.sub(r"[^A-Za-z0-9]+", "_", alt_label))
-                q = talus_run(a, case, alt_folder, list(base) + list(sets) + [alt_set])
+            if alt_run:
+                q, _ = alt_run.result()
                 print(f"{case.stem} {label} ({alt_label}): exit {q.returncode}", flush=True)
                 if q.returncode == 0:
                     alt = Run(alt_folder)
@@ -359,6 +393,7 @@ def main():
                     for r in rows[-len(group):]:
                         r["plot"] = f"img/{folder.name}.png"
         sections.append(section)
+    pool.shutdown()
     elapsed = time.time() - started
     write_reports(out, rows, sections, level, elapsed)
     if a.update_docs:

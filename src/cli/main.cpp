@@ -214,6 +214,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> verify_cases;
   std::string verify_out = "verification", source_dir = TALUS_SOURCE_DIR, also_shape, also_set;
   bool verify_full = false, verify_quick = false, update_docs = false;
+  int verify_jobs = 1;
   auto* verify = app.add_subcommand(
       "verify", "run every benchmark against its reference and write DIR/report.html");
   verify->add_flag("--quick", verify_quick, "CI resolution (the default)");
@@ -226,6 +227,11 @@ int main(int argc, char** argv) {
                    "at most this many OpenMP threads per run (each takes one per 25,000 "
                    "particles, as talus run does)")
       ->check(CLI::Range(1, 1024));
+  verify
+      ->add_option("--jobs,-j", verify_jobs,
+                   "runs at once (default 1); each then takes at most the cores over the jobs "
+                   "in threads")
+      ->check(CLI::Range(1, 64));
   verify->add_flag("--update-docs", update_docs, "write the table into docs/verification.md");
   auto* also_shape_opt =
       verify
@@ -292,6 +298,7 @@ int main(int argc, char** argv) {
                                      verify_out,
                                      verify_full ? "--full" : "--quick"};
     if (threads > 0) args.insert(args.end(), {"--threads", std::to_string(threads)});
+    if (verify_jobs > 1) args.insert(args.end(), {"--jobs", std::to_string(verify_jobs)});
     if (update_docs) args.emplace_back("--update-docs");
     if (!also_shape.empty()) args.insert(args.end(), {"--also-shape", also_shape});
     if (!also_set.empty()) args.insert(args.end(), {"--also-set", also_set});

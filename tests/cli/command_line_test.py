@@ -53,6 +53,7 @@ expect(["check", case, "--set", ".grid=1"], 2, "--set '.grid': a key path with a
 expect(["check", case, "--set", "simulation.scheme=usf"], 0, "particles")  # a bare word: string
 expect(["verify", "--threads", "-1", "--out", str(work / "report")], 2, "--threads")
 expect(["verify", "--cases", "--out", str(work / "report")], 2, "--cases")
+expect(["verify", "--jobs", "0", "--out", str(work / "report")], 2, "--jobs")
 expect(["verify", "--also-shape", "quadratic", "--out", str(work / "report")], 2, "--also-shape")
 expect(["verify", "--also-set", "simulation.xpic", "--out", str(work / "report")], 2, "--also-set")
 expect(["verify", "--also-shape", "bspline", "--also-set", "simulation.xpic=2", "--out",
@@ -70,6 +71,21 @@ print(("ok   " if ok else "FAIL ") + f"verify --threads 2 on self_weight_column:
       f"threads per run {used}")
 if not ok:
     failures.append("verify --threads cap")
+# verify --jobs 2 runs two at once and reports the same table as one at a time.
+tables = []
+for jobs in ("1", "2"):
+    folder = work / f"jobs{jobs}"
+    p = subprocess.run([talus, "verify", "--cases", "self_weight_column", "cohesive_slope", "--jobs",
+                        jobs, "--source", str(source), "--out", str(folder)],
+                       capture_output=True, text=True, timeout=600)
+    tables.append([line for line in (folder / "report.md").read_text().splitlines()
+                   if line.startswith("| self_weight_column") or line.startswith("| cohesive_slope")]
+                  if p.returncode == 0 else None)
+ok = tables[0] is not None and len(tables[0]) > 0 and tables[0] == tables[1]
+print(f"ok   verify --jobs 2: {len(tables[0])} rows, the same as --jobs 1" if ok
+      else "FAIL verify --jobs 2: the tables differ, or a run failed")
+if not ok:
+    failures.append("verify --jobs")
 # A terminal escape in a --set value is not echoed raw by its error.
 p = subprocess.run([talus, "check", case, "--set", "title=\x1b[31mred\x1b[0m"],
                    capture_output=True, text=True, timeout=30)
