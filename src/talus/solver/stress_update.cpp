@@ -69,11 +69,19 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
       const ShapeWeights<D>& sw = shape_.weights[p];
       const BodyField<D>& N = fields_[P.field[p]];
       const Vec<D>* rate = (N.*velocity).data();
-      // L = sum_I v_I (grad N_I)^T
-      Mat<D> L = Mat<D>::Zero();
+      // L = sum_I v_I (grad N_I)^T, summed in scalars: an Eigen matrix accumulated across the
+      // node loop's variants stays in memory (a store-to-load chain per node).
+      double l[D][D] = {};
       for_each_node(N.box, sw, [&](std::int64_t I, double, const Vec<D>& dN_I) {
-        L += rate[I] * dN_I.transpose();
+        const Vec<D>& v = rate[I];
+        for (int i = 0; i < D; ++i)
+          for (int j = 0; j < D; ++j)
+            l[i][j] += v[i] * dN_I[j];
       });
+      Mat<D> L;
+      for (int i = 0; i < D; ++i)
+        for (int j = 0; j < D; ++j)
+          L(i, j) = l[i][j];
       // F^{n+1} = (I + L dt) F^n, V = V_0 det F (eq. 24-25).
       P.F[p] = (Mat<D>::Identity() + L * dt) * P.F[p];
       double J = P.F[p].determinant();
