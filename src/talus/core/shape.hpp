@@ -230,7 +230,8 @@ namespace shape_detail {
 // The loops of for_each_node with the nodes per direction known at compile time, so that they
 // unroll (K0, K1, K2: 2 or 3 each).
 template <int K0, int K1, int K2, int D, class F>
-inline void for_each_node_k(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& f) {
+[[gnu::always_inline]] inline void for_each_node_k(const Grid<D>& grid, const ShapeWeights<D>& sw,
+                                                   F&& f) {
   auto clamp = [&](int d, std::int64_t i) {
     return i < 0 ? std::int64_t{0} : (i >= grid.nodes[d] ? grid.nodes[d] - 1 : i);
   };
@@ -266,8 +267,11 @@ inline void for_each_node_k(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& 
 } // namespace shape_detail
 
 // Calls f(node_index, N, grad N) for every node in the support of sw, in a fixed order (x-major).
+// Always inlined: through a call, a gather's sums (captured by reference) stay in memory, a
+// store-to-load chain per node, and every array's data pointer is reloaded after each store.
 template <int D, class F>
-inline void for_each_node(const Grid<D>& grid, const ShapeWeights<D>& sw, F&& f) {
+[[gnu::always_inline]] inline void for_each_node(const Grid<D>& grid, const ShapeWeights<D>& sw,
+                                                 F&& f) {
   using namespace shape_detail;
   if constexpr (D == 2) {
     switch ((sw.k[0] - 2) * 2 + (sw.k[1] - 2)) {
