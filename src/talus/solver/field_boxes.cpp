@@ -9,44 +9,22 @@
 #include <fmt/format.h>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <variant>
 
 namespace talus {
 
-// Reads the positions and the particles' fields; writes each body's field box and clears it.
+// Reads the bounds bin_particles_by_slab took; writes each body's field box and clears it.
 // Each body's field covers the nodes its particles and the orphans it hosts reach (GIMP: one
 // cell beyond the particle's cell on each side), refitted and cleared every step.
 template <int D>
 void Simulation<D>::fit_body_fields() {
-  const auto& P = particles_;
-  const int B = P.num_bodies();
+  const int B = particles_.num_bodies();
   std::vector<double>& bounds = plan_.box_bounds; // B x D minima, then B x D maxima
-  bounds.resize(2 * B * D);
+  if (bounds.size() != static_cast<std::size_t>(2 * B * D))
+    throw std::logic_error("fit_body_fields needs the bounds of bin_particles_by_slab");
   double* lo_ = bounds.data();
   double* hi_ = bounds.data() + B * D;
-  // Each body's particles span its box (a held body keeps the box it has), and the orphans (a
-  // handful, if any) stretch their hosts' boxes. One parallel region for every body: a minimum
-  // and a maximum do not depend on the order they are taken in.
-  for (int b = 0; b < B; ++b)
-    if (!field_held_[b]) std::fill_n(lo_ + b * D, D, inf), std::fill_n(hi_ + b * D, D, -inf);
-#pragma omp parallel reduction(min : lo_[:B * D]) reduction(max : hi_[:B * D])
-  for (int b = 0; b < B; ++b) {
-    const bool own = !field_held_[b];
-    const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-#pragma omp for schedule(static) nowait
-    for (std::int64_t p = begin; p < end; ++p) {
-      if (own)
-        for (int d = 0; d < D; ++d) {
-          lo_[b * D + d] = std::min(lo_[b * D + d], P.x[p][d]);
-          hi_[b * D + d] = std::max(hi_[b * D + d], P.x[p][d]);
-        }
-      if (const int f = P.field[p]; f != b)
-        for (int d = 0; d < D; ++d) {
-          lo_[f * D + d] = std::min(lo_[f * D + d], P.x[p][d]);
-          hi_[f * D + d] = std::max(hi_[f * D + d], P.x[p][d]);
-        }
-    }
-  }
   // The nodes [cell(lo) - 1, cell(hi) + 3) hold the support of every point in [lo, hi].
   auto node_range = [&](const double* lo, const double* hi, Index<D>& first, Index<D>& last) {
     first = grid_.cell_of(Eigen::Map<const Vec<D>>(lo));

@@ -23,7 +23,9 @@ void Simulation<D>::sort_particles_by_cell() {
 }
 
 // Reads the positions; writes each particle's slab bin (slabs of plan_.slab_width cells along x, by
-// body) and the bins' index, in particle order; a held field's particles get no bin.
+// body) and the bins' index, in particle order; a held field's particles get no bin. The same
+// pass takes each body's bounds for fit_body_fields (plan_.box_bounds): its particles' and the
+// orphans' it hosts; a held body keeps the bounds it has.
 template <int D>
 void Simulation<D>::bin_particles_by_slab() {
   const auto& P = particles_;
@@ -34,11 +36,21 @@ void Simulation<D>::bin_particles_by_slab() {
   std::fill(plan_.bin_offset.begin(), plan_.bin_offset.end(), 0);
   const double inv_h = 1.0 / grid_.h;
   constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  std::vector<double>& bounds = plan_.box_bounds; // B x D minima, then B x D maxima
+  bounds.resize(2 * B * D);
+  double* lo_ = bounds.data();
+  double* hi_ = bounds.data() + B * D;
   for (int b = 0; b < B; ++b) // a held body's field stands: no scatter visits its particles
-    if (field_held_[b])
+    if (field_held_[b]) {
       std::fill(plan_.particle_bin.begin() + P.body_begin[b],
                 plan_.particle_bin.begin() + P.body_begin[b + 1], none);
-#pragma omp parallel // one region for every body
+    } else {
+      std::fill_n(lo_ + b * D, D, inf), std::fill_n(hi_ + b * D, D, -inf);
+    }
+    // One parallel region for every body. A held body is a fixed rigid one, whose particles are
+    // never orphans (update_orphans leaves rigid bodies alone): it has nothing to bin or bound.
+    // A minimum and a maximum do not depend on the order they are taken in.
+#pragma omp parallel reduction(min : lo_[:B * D]) reduction(max : hi_[:B * D])
   for (int b = 0; b < B; ++b) {
     if (field_held_[b]) continue;
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
@@ -48,6 +60,15 @@ void Simulation<D>::bin_particles_by_slab() {
       const std::int64_t s = std::clamp<std::int64_t>(
           static_cast<std::int64_t>(xi) / plan_.slab_width, 0, plan_.num_slabs - 1);
       plan_.particle_bin[p] = static_cast<std::uint32_t>(s * B + b);
+      for (int d = 0; d < D; ++d) {
+        lo_[b * D + d] = std::min(lo_[b * D + d], P.x[p][d]);
+        hi_[b * D + d] = std::max(hi_[b * D + d], P.x[p][d]);
+      }
+      if (const int f = P.field[p]; f != b) // an orphan stretches its host's box
+        for (int d = 0; d < D; ++d) {
+          lo_[f * D + d] = std::min(lo_[f * D + d], P.x[p][d]);
+          hi_[f * D + d] = std::max(hi_[f * D + d], P.x[p][d]);
+        }
     }
   }
   // A counting sort by bin, stable in p, over `chunks` contiguous ranges of particles: each
