@@ -134,12 +134,6 @@ inline void bspline_1d(ShapeWeights<D>& sw, int d, double xi, std::int64_t lo, s
   }
 }
 
-// The same on a grid whose faces are its first and last nodes.
-template <int D>
-inline void bspline_1d(ShapeWeights<D>& sw, int d, double xi, std::int64_t nodes, double inv_h) {
-  bspline_1d(sw, d, xi, 0, nodes - 1, inv_h);
-}
-
 // Weights of the particle at x, with the GIMP factors of its half-width lp (GimpFactors(h, lp);
 // ignored for linear, except their 1/h). Nodes outside the grid get zero weight (their index is
 // clamped so the kernel loops never read out of range). The factors are the same for every

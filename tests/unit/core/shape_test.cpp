@@ -79,7 +79,7 @@ TEST(Gimp1D, MatchesTheClosedFormPieces) {
 TEST(BSpline1D, MatchesTheClosedFormPieces) {
   ShapeWeights<1> sw;
   const double h = 0.5, inv_h = 1.0 / h;
-  bspline_1d(sw, 0, 4.0, 100, inv_h); // on node 4: base 3
+  bspline_1d(sw, 0, 4.0, 0, 99, inv_h); // on node 4: base 3
   EXPECT_EQ(sw.base[0], 3);
   EXPECT_DOUBLE_EQ(sw.w[0][0], 0.125);
   EXPECT_DOUBLE_EQ(sw.w[0][1], 0.75);
@@ -87,7 +87,7 @@ TEST(BSpline1D, MatchesTheClosedFormPieces) {
   EXPECT_DOUBLE_EQ(sw.dw[0][0], -0.5 * inv_h);
   EXPECT_DOUBLE_EQ(sw.dw[0][1], 0.0);
   EXPECT_DOUBLE_EQ(sw.dw[0][2], 0.5 * inv_h);
-  bspline_1d(sw, 0, 4.5, 100, inv_h); // midway: base 4
+  bspline_1d(sw, 0, 4.5, 0, 99, inv_h); // midway: base 4
   EXPECT_EQ(sw.base[0], 4);
   EXPECT_DOUBLE_EQ(sw.w[0][0], 0.5);
   EXPECT_DOUBLE_EQ(sw.w[0][1], 0.5);
@@ -100,8 +100,8 @@ TEST(BSpline1D, WeightsAndSlopesAreContinuous) {
   const double eps = 1e-9;
   for (const double at : {3.5, 4.5, 7.5}) {
     ShapeWeights<1> lo, hi;
-    bspline_1d(lo, 0, at - eps, 100, 1.0);
-    bspline_1d(hi, 0, at + eps, 100, 1.0);
+    bspline_1d(lo, 0, at - eps, 0, 99, 1.0);
+    bspline_1d(hi, 0, at + eps, 0, 99, 1.0);
     ASSERT_EQ(hi.base[0], lo.base[0] + 1);
     for (int a = 0; a < 3; ++a) {
       const std::int64_t node = lo.base[0] + a;
