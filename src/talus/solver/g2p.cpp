@@ -122,8 +122,8 @@ void Simulation<D>::update_particles_and_remap(double dt) {
   auto& P = particles_;
   const double flip = setup_.flip;
   shape_.require(steps_, particles_.size());
-  for (auto& N : fields_)
-    std::fill(N.p.begin(), N.p.end(), Vec<D>::Zero());
+  for (int b = 0; b < num_bodies(); ++b) // a held field's velocities stand (grid_update.cpp)
+    if (!field_held_[b]) std::fill(fields_[b].p.begin(), fields_[b].p.end(), Vec<D>::Zero());
   std::atomic<std::size_t> gone{StepCheck::no_particle};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
   const GridConditions<D>& faces = setup_.conditions;
@@ -147,6 +147,7 @@ void Simulation<D>::update_particles_and_remap(double dt) {
     move_and_remap(std::false_type{});
   check_.bad_particle = std::min(check_.bad_particle, gone.load());
   for (int b = 0; b < num_bodies(); ++b) {
+    if (field_held_[b]) continue;
     BodyField<D>& N = fields_[b];
     const std::int64_t n = static_cast<std::int64_t>(N.size());
 #pragma omp parallel for schedule(static)

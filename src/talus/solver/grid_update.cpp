@@ -11,10 +11,15 @@ namespace talus {
 // The grid loops here share one parallel region across the bodies (each body's nodes split
 // statically, no barrier between bodies): waking a team of sleeping threads costs tens of
 // microseconds, as much as a body's loop over tens of thousands of nodes.
+// A held field (a fixed rigid body's, from its second step) is skipped here and in every
+// velocity loop: its velocities are its prescribed zero, written by apply_velocity_conditions
+// in its first step and left as they are by contact, which writes back a rigid body's velocity
+// unchanged.
 template <int D>
 void Simulation<D>::compute_node_velocities() {
 #pragma omp parallel
   for (int b = 0; b < num_bodies(); ++b) {
+    if (field_held_[b]) continue;
     BodyField<D>& N = fields_[b];
     const std::int64_t n = static_cast<std::int64_t>(N.size());
 #pragma omp for schedule(static) nowait
@@ -30,6 +35,7 @@ void Simulation<D>::integrate_node_forces(double dt) {
   const double alpha = settling_ ? setup_.settle_damping : setup_.damping;
 #pragma omp parallel
   for (int b = 0; b < num_bodies(); ++b) {
+    if (field_held_[b]) continue;
     BodyField<D>& N = fields_[b];
     const std::int64_t n = static_cast<std::int64_t>(N.size());
 #pragma omp for schedule(static) nowait
@@ -86,9 +92,10 @@ void Simulation<D>::hold_hydrostatic_load() {
 template <int D>
 void Simulation<D>::apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*velocity) {
   for (int b = 0; b < num_bodies(); ++b)
-    apply_grid_conditions<D>(setup_.conditions, b, fields_[b], fields_[b].*velocity);
+    if (!field_held_[b])
+      apply_grid_conditions<D>(setup_.conditions, b, fields_[b], fields_[b].*velocity);
   for (int b = 0; b < num_bodies(); ++b)
-    if (setup_.bodies[b].rigid)
+    if (setup_.bodies[b].rigid && !field_held_[b])
       std::fill((fields_[b].*velocity).begin(), (fields_[b].*velocity).end(),
                 setup_.bodies[b].rigid_velocity);
 }
