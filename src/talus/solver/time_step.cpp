@@ -26,6 +26,7 @@ double Simulation<D>::compute_time_step() const {
   // One parallel region for every body (waking the threads costs more than a small body's loop).
 #pragma omp parallel reduction(max : max_speed)
   for (int b = 0; b < P.num_bodies(); ++b) {
+    if (field_held_[b]) continue; // a fixed rigid body: speed 0, which cannot raise the maximum
     // A rigid body carries no stress wave: only its speed counts.
     const BodySetup<D>& body = setup_.bodies[b];
     const double modulus = body.rigid ? 0.0 : body.material.p_wave_modulus();
