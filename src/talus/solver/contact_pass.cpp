@@ -272,64 +272,73 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
     ContactNode<D> rigid_others;
     std::int64_t rigid_local[max_bodies_at_node];
     while (true) {
-      // The node as the law sees it: each body with mass here.
-      ContactNode<D> node;
-      std::int64_t local[max_bodies_at_node];
-      for (int b = 0; b < B && node.n < max_bodies_at_node; ++b) {
+      // Most nodes of the bodies' shared box hold one body or none: counted first, they are
+      // passed over before the node is built (the law acts only where two bodies have mass).
+      int with_mass = 0;
+      for (int b = 0; b < B && with_mass < 2; ++b) {
         const std::int64_t i = fields_[b].local(g);
-        if (i < 0 || fields_[b].m[i] <= 0.0) continue;
-        const BodyField<D>& N = fields_[b];
-        const BodySetup<D>& body = setup_.bodies[b];
-        const int k = node.n++;
-        node.body[k] = b, local[k] = i;
-        node.m[k] = N.m[i];
-        node.v[k] = (N.*velocity)[i];
-        node.grad_m[k] = N.grad_m[i];
-        node.x[k] = N.mx[i] / N.m[i];
-        node.rigid[k] = body.rigid;
-        node.rank[k] = detail::body_rank(body.mass, b);
-        node.surface_normal[k].setZero();
+        with_mass += i >= 0 && fields_[b].m[i] > 0.0;
       }
-      // A node with two or more rigid bodies: the deformable bodies there meet the heaviest in
-      // the node's own law and each other rigid body in a pair of its own, after it (below).
-      rigid_others.n = 0;
-      split_rigid_others(node, local, rigid_others, rigid_local);
-      if (node.n >= 2) {
-        for (int k = 0; k < node.n; ++k)
-          if (setup_.bodies[node.body[k]].normal_geometry) { // from the others' mass here
-            Vec<D> mx = Vec<D>::Zero();
-            double m = 0.0;
-            for (int j = 0; j < node.n; ++j)
-              if (j != k) mx += node.m[j] * node.x[j], m += node.m[j];
-            node.surface_normal[k] = geometric_normal(node.body[k], g, Vec<D>(mx / m));
-          }
-        // Normals from mass gradients smoothed over the neighbouring nodes: a lattice-sampled
-        // surface's raw gradient tilts by a degree or more from node to node.
-        if (const int radius = setup_.normal_smoothing; radius > 0)
-          for (int k = 0; k < node.n; ++k)
-            if (node.surface_normal[k].isZero())
-              node.grad_m[k] = smoothed_gradient<D>(fields_[node.body[k]], g, radius);
-        resolve_node(node, local, g, r, dt, velocity, record);
-      }
-      // Each deformable body against each other rigid body, in body order, from the velocity
-      // the node's law left: a body in a corner (a floor and a wall, a valley floor and a dam)
-      // is held off both faces.
-      for (int j = 0; j < rigid_others.n; ++j)
-        for (int k = 0; k < node.n; ++k) {
-          if (node.rigid[k]) continue;
-          ContactNode<D> pair;
-          std::int64_t pair_local[2] = {local[k], rigid_local[j]};
-          pair.n = 2;
-          copy_body(node, k, pair, 0);
-          copy_body(rigid_others, j, pair, 1);
-          if (setup_.bodies[pair.body[1]].normal_geometry)
-            pair.surface_normal[1] = geometric_normal(pair.body[1], g, pair.x[0]);
-          if (const int radius = setup_.normal_smoothing;
-              radius > 0 && pair.surface_normal[1].isZero())
-            pair.grad_m[1] = smoothed_gradient<D>(fields_[pair.body[1]], g, radius);
-          resolve_node(pair, pair_local, g, r, dt, velocity, record);
-          node.v[k] = pair.v[0];
+      if (with_mass >= 2) {
+        // The node as the law sees it: each body with mass here.
+        ContactNode<D> node;
+        std::int64_t local[max_bodies_at_node];
+        for (int b = 0; b < B && node.n < max_bodies_at_node; ++b) {
+          const std::int64_t i = fields_[b].local(g);
+          if (i < 0 || fields_[b].m[i] <= 0.0) continue;
+          const BodyField<D>& N = fields_[b];
+          const BodySetup<D>& body = setup_.bodies[b];
+          const int k = node.n++;
+          node.body[k] = b, local[k] = i;
+          node.m[k] = N.m[i];
+          node.v[k] = (N.*velocity)[i];
+          node.grad_m[k] = N.grad_m[i];
+          node.x[k] = N.mx[i] / N.m[i];
+          node.rigid[k] = body.rigid;
+          node.rank[k] = detail::body_rank(body.mass, b);
+          node.surface_normal[k].setZero();
         }
+        // A node with two or more rigid bodies: the deformable bodies there meet the heaviest in
+        // the node's own law and each other rigid body in a pair of its own, after it (below).
+        rigid_others.n = 0;
+        split_rigid_others(node, local, rigid_others, rigid_local);
+        if (node.n >= 2) {
+          for (int k = 0; k < node.n; ++k)
+            if (setup_.bodies[node.body[k]].normal_geometry) { // from the others' mass here
+              Vec<D> mx = Vec<D>::Zero();
+              double m = 0.0;
+              for (int j = 0; j < node.n; ++j)
+                if (j != k) mx += node.m[j] * node.x[j], m += node.m[j];
+              node.surface_normal[k] = geometric_normal(node.body[k], g, Vec<D>(mx / m));
+            }
+          // Normals from mass gradients smoothed over the neighbouring nodes: a lattice-sampled
+          // surface's raw gradient tilts by a degree or more from node to node.
+          if (const int radius = setup_.normal_smoothing; radius > 0)
+            for (int k = 0; k < node.n; ++k)
+              if (node.surface_normal[k].isZero())
+                node.grad_m[k] = smoothed_gradient<D>(fields_[node.body[k]], g, radius);
+          resolve_node(node, local, g, r, dt, velocity, record);
+        }
+        // Each deformable body against each other rigid body, in body order, from the velocity
+        // the node's law left: a body in a corner (a floor and a wall, a valley floor and a dam)
+        // is held off both faces.
+        for (int j = 0; j < rigid_others.n; ++j)
+          for (int k = 0; k < node.n; ++k) {
+            if (node.rigid[k]) continue;
+            ContactNode<D> pair;
+            std::int64_t pair_local[2] = {local[k], rigid_local[j]};
+            pair.n = 2;
+            copy_body(node, k, pair, 0);
+            copy_body(rigid_others, j, pair, 1);
+            if (setup_.bodies[pair.body[1]].normal_geometry)
+              pair.surface_normal[1] = geometric_normal(pair.body[1], g, pair.x[0]);
+            if (const int radius = setup_.normal_smoothing;
+                radius > 0 && pair.surface_normal[1].isZero())
+              pair.grad_m[1] = smoothed_gradient<D>(fields_[pair.body[1]], g, radius);
+            resolve_node(pair, pair_local, g, r, dt, velocity, record);
+            node.v[k] = pair.v[0];
+          }
+      }
       int d = D - 1;
       while (d >= 1 && ++g[d] == hi[d])
         g[d] = lo[d], --d;
