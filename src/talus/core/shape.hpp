@@ -279,23 +279,23 @@ template <int D, class F>
       return for_each_node_k<3, 3, 0>(grid, sw, f);
     }
   } else {
-    switch ((sw.k[0] - 2) * 4 + (sw.k[1] - 2) * 2 + (sw.k[2] - 2)) {
-    case 0:
-      return for_each_node_k<2, 2, 2>(grid, sw, f);
-    case 1:
-      return for_each_node_k<2, 2, 3>(grid, sw, f);
-    case 2:
-      return for_each_node_k<2, 3, 2>(grid, sw, f);
-    case 3:
-      return for_each_node_k<2, 3, 3>(grid, sw, f);
-    case 4:
-      return for_each_node_k<3, 2, 2>(grid, sw, f);
-    case 5:
-      return for_each_node_k<3, 2, 3>(grid, sw, f);
-    case 6:
-      return for_each_node_k<3, 3, 2>(grid, sw, f);
-    default:
-      return for_each_node_k<3, 3, 3>(grid, sw, f);
+    // In 3D the loops keep their run-time counts: unrolled for each of the 8 support sizes, f
+    // (up to 27 copies in each) was too large to inline and became a call per node.
+    auto clamp = [&](int d, std::int64_t i) {
+      return i < 0 ? std::int64_t{0} : (i >= grid.nodes[d] ? grid.nodes[d] - 1 : i);
+    };
+    for (int a = 0; a < sw.k[0]; ++a) {
+      for (int b = 0; b < sw.k[1]; ++b) {
+        const std::int64_t row =
+            (clamp(0, sw.base[0] + a) * grid.nodes[1] + clamp(1, sw.base[1] + b)) * grid.nodes[2];
+        const double wab = sw.w[0][a] * sw.w[1][b];
+        for (int c = 0; c < sw.k[2]; ++c) {
+          const double N = wab * sw.w[2][c];
+          const Vec<3> g(sw.dw[0][a] * sw.w[1][b] * sw.w[2][c],
+                         sw.w[0][a] * sw.dw[1][b] * sw.w[2][c], wab * sw.dw[2][c]);
+          f(row + clamp(2, sw.base[2] + c), N, g);
+        }
+      }
     }
   }
 }
