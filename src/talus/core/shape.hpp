@@ -221,8 +221,8 @@ inline ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, doubl
 
 namespace shape_detail {
 
-// The loops of for_each_node with the nodes per direction known at compile time, so that they
-// unroll (K0, K1, K2: 2 or 3 each).
+// The loops of for_each_node in 2D with the nodes per direction known at compile time, so that
+// they unroll (K0, K1, K2: 2 or 3 each); in 3D, the full walk the tests compare against.
 template <int K0, int K1, int K2, int D, class F>
 [[gnu::always_inline]] inline void for_each_node_k(const Grid<D>& grid, const ShapeWeights<D>& sw,
                                                    F&& f) {

@@ -40,16 +40,16 @@ void Simulation<D>::bin_particles_by_slab() {
   bounds.resize(2 * B * D);
   double* lo_ = bounds.data();
   double* hi_ = bounds.data() + B * D;
-  for (int b = 0; b < B; ++b) // a held body's field stands: no scatter visits its particles
-    if (field_held_[b]) {
+  for (int b = 0; b < B; ++b) { // a held body's field stands: no scatter visits its particles
+    if (field_held_[b])
       std::fill(plan_.particle_bin.begin() + P.body_begin[b],
                 plan_.particle_bin.begin() + P.body_begin[b + 1], none);
-    } else {
+    else
       std::fill_n(lo_ + b * D, D, inf), std::fill_n(hi_ + b * D, D, -inf);
-    }
-    // One parallel region for every body. A held body is a fixed rigid one, whose particles are
-    // never orphans (update_orphans leaves rigid bodies alone): it has nothing to bin or bound.
-    // A minimum and a maximum do not depend on the order they are taken in.
+  }
+  // One parallel region for every body. A held body is a fixed rigid one, whose particles are
+  // never orphans (update_orphans leaves rigid bodies alone): it has nothing to bin or bound.
+  // A minimum and a maximum do not depend on the order they are taken in.
 #pragma omp parallel reduction(min : lo_[:B * D]) reduction(max : hi_[:B * D])
   for (int b = 0; b < B; ++b) {
     if (field_held_[b]) continue;
