@@ -268,5 +268,22 @@ check(code == 2 and "particles_000000.vtu: a frame the checkpoint lists is missi
       and not (gone / "particles_000000.vtu").exists(),
       f"a restart with a listed frame deleted is refused (exit {code}): {out.strip()[-160:]}")
 
+# A run killed while it copies its inputs leaves a folder of talus's files alone: case.toml, which
+# names the copies, is written before them, so --overwrite (and a sweep's resume) can empty it.
+volcano = (source / "cases/examples/volcano_slide.toml").read_text().replace(
+    '"volcano/', f'"{source}/cases/examples/volcano/')
+(work / "volcano.toml").write_text(volcano)
+for attempt in range(5):
+    cut = work / f"cut_in_copies_{attempt}"
+    p = start(work / "volcano.toml", "--out", cut, "--set", "simulation.end_time=0.01")
+    while p.poll() is None and not (cut / "inputs").is_dir():
+        pass
+    p.send_signal(signal.SIGKILL)
+    p.wait(timeout=60)
+    code, out = run(work / "volcano.toml", "--out", cut, "--overwrite", "--set",
+                    "simulation.end_time=0.01", "--set", "output.particles=false")
+    check(code == 0, f"a run killed among its input copies is taken by --overwrite (exit {code}): "
+          f"{out.strip()[-240:]}")
+
 print(f"{len(failures)} failure(s)")
 sys.exit(1 if failures else 0)

@@ -21,6 +21,7 @@ Usage: sweep_test.py TALUS SOURCE_DIR WORK_DIR
 """
 import json
 import math
+import re
 import shutil
 import signal
 import subprocess
@@ -143,14 +144,15 @@ def stopped_then_resumed(name, sig):
     p = subprocess.Popen([talus, "sweep", str(case3), "--out", str(folder), "--jobs", "1", *short],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 300
-    # Stop it once the first run is done and the second has run a while.
+    # Stop it once the first run is done and the second has stepped a tenth of its time (its log's
+    # progress line: a run takes about a second, so a fixed wait could outlast it).
+    log = folder / "logs" / "run_001.log"
     while time.time() < deadline:
-        s = folder / "run_001" / "summary.json"
-        if s.exists() and '"running"' in s.read_text() and (folder / "run_000/summary.json") \
-                .exists() and '"completed"' in (folder / "run_000/summary.json").read_text():
-            time.sleep(1.0)
+        progress = re.findall(r"^t = \S+ / \S+ s +([0-9.]+) %", log.read_text(), re.M) \
+            if log.exists() else []
+        if any(10 <= float(share) < 100 for share in progress):
             break
-        time.sleep(0.1)
+        time.sleep(0.01)
     p.send_signal(sig)
     p.communicate(timeout=120)
     if sig == signal.SIGTERM and p.returncode != 128 + signal.SIGTERM:

@@ -321,6 +321,9 @@ RunFolder prepare_run_inputs(const Case& c, const std::string& dir, bool overwri
     modes.push_back(::stat(f.source.c_str(), &st) == 0 ? st.st_mode & 07777u : 0644u);
   }
   RunFolder folder(dir, overwrite ? RunFolder::Use::overwrite : RunFolder::Use::fresh);
+  // case.toml first: it names the copies, so that a run stopped among them leaves a folder of
+  // talus's files alone (foreign_entries), which --overwrite or a sweep's resume may empty.
+  write_file_atomic(dir + "/case.toml", c.text);
   if (!c.inputs.empty()) make_folder(dir + "/inputs");
   for (std::size_t i = 0; i < c.inputs.size(); ++i) {
     AtomicFile copy(dir + "/" + c.inputs[i].copy, modes[i]);
