@@ -5,7 +5,7 @@ Runs `talus bench --threads 1 --problems PROBLEM` under valgrind's callgrind (wi
 simulation), sums the inclusive costs of the step's functions by the phase whose timer runs them
 (Simulation::step: p2g, grid, contact, g2p, stress, other) and divides by the bench's particle
 updates (particles x steps). The set-up's cost is outside the step and left out. The run is
-about 150 times slower than the bench itself (the 2D Vaiont: 17 minutes).
+about 150 times slower than the bench itself (the 2D Vaiont: about 20 minutes).
 
 Usage: tools/phase_instructions.py [--talus build/release/talus] [--out DIR] PROBLEM [PROBLEM ...]
 Prints a Markdown table: instructions and D1 misses per update for each phase and the step.
