@@ -221,20 +221,44 @@ inline ShapeWeights<D> evaluate_shape(const Grid<D>& grid, ShapeKind kind, doubl
 
 namespace shape_detail {
 
+// Node i of direction d, clamped to the grid (a node outside it has no weight).
+template <int D>
+[[gnu::always_inline]] inline std::int64_t clamp_node(const Grid<D>& grid, int d, std::int64_t i) {
+  return i < 0 ? std::int64_t{0} : (i >= grid.nodes[d] ? grid.nodes[d] - 1 : i);
+}
+
+// The 3D walk over k0 x k1 x k2 nodes from sw.base, x-major.
+template <class F>
+[[gnu::always_inline]] inline void walk_3d(const Grid<3>& grid, const ShapeWeights<3>& sw, int k0,
+                                           int k1, int k2, F&& f) {
+  for (int a = 0; a < k0; ++a) {
+    for (int b = 0; b < k1; ++b) {
+      const std::int64_t row = (clamp_node(grid, 0, sw.base[0] + a) * grid.nodes[1] +
+                                clamp_node(grid, 1, sw.base[1] + b)) *
+                               grid.nodes[2];
+      const double wab = sw.w[0][a] * sw.w[1][b];
+      for (int c = 0; c < k2; ++c) {
+        const double N = wab * sw.w[2][c];
+        const Vec<3> g(sw.dw[0][a] * sw.w[1][b] * sw.w[2][c], sw.w[0][a] * sw.dw[1][b] * sw.w[2][c],
+                       wab * sw.dw[2][c]);
+        f(row + clamp_node(grid, 2, sw.base[2] + c), N, g);
+      }
+    }
+  }
+}
+
 // The loops of for_each_node in 2D with the nodes per direction known at compile time, so that
-// they unroll (K0, K1, K2: 2 or 3 each); in 3D, the full walk the tests compare against.
+// they unroll (K0, K1, K2: 2 or 3 each); in 3D, the walk over K0 x K1 x K2 nodes (the tests'
+// full support).
 template <int K0, int K1, int K2, int D, class F>
 [[gnu::always_inline]] inline void for_each_node_k(const Grid<D>& grid, const ShapeWeights<D>& sw,
                                                    F&& f) {
-  auto clamp = [&](int d, std::int64_t i) {
-    return i < 0 ? std::int64_t{0} : (i >= grid.nodes[d] ? grid.nodes[d] - 1 : i);
-  };
   if constexpr (D == 2) {
     std::int64_t col[K1];
     for (int b = 0; b < K1; ++b)
-      col[b] = clamp(1, sw.base[1] + b);
+      col[b] = clamp_node(grid, 1, sw.base[1] + b);
     for (int a = 0; a < K0; ++a) {
-      const std::int64_t row = clamp(0, sw.base[0] + a) * grid.nodes[1];
+      const std::int64_t row = clamp_node(grid, 0, sw.base[0] + a) * grid.nodes[1];
       for (int b = 0; b < K1; ++b) {
         const double N = sw.w[0][a] * sw.w[1][b];
         const Vec<2> g(sw.dw[0][a] * sw.w[1][b], sw.w[0][a] * sw.dw[1][b]);
@@ -242,19 +266,7 @@ template <int K0, int K1, int K2, int D, class F>
       }
     }
   } else {
-    for (int a = 0; a < K0; ++a) {
-      for (int b = 0; b < K1; ++b) {
-        const std::int64_t row =
-            (clamp(0, sw.base[0] + a) * grid.nodes[1] + clamp(1, sw.base[1] + b)) * grid.nodes[2];
-        const double wab = sw.w[0][a] * sw.w[1][b];
-        for (int c = 0; c < K2; ++c) {
-          const double N = wab * sw.w[2][c];
-          const Vec<3> g(sw.dw[0][a] * sw.w[1][b] * sw.w[2][c],
-                         sw.w[0][a] * sw.dw[1][b] * sw.w[2][c], wab * sw.dw[2][c]);
-          f(row + clamp(2, sw.base[2] + c), N, g);
-        }
-      }
-    }
+    walk_3d(grid, sw, K0, K1, K2, f);
   }
 }
 
@@ -281,22 +293,7 @@ template <int D, class F>
   } else {
     // In 3D the loops keep their run-time counts: unrolled for each of the 8 support sizes, f
     // (up to 27 copies in each) was too large to inline and became a call per node.
-    auto clamp = [&](int d, std::int64_t i) {
-      return i < 0 ? std::int64_t{0} : (i >= grid.nodes[d] ? grid.nodes[d] - 1 : i);
-    };
-    for (int a = 0; a < sw.k[0]; ++a) {
-      for (int b = 0; b < sw.k[1]; ++b) {
-        const std::int64_t row =
-            (clamp(0, sw.base[0] + a) * grid.nodes[1] + clamp(1, sw.base[1] + b)) * grid.nodes[2];
-        const double wab = sw.w[0][a] * sw.w[1][b];
-        for (int c = 0; c < sw.k[2]; ++c) {
-          const double N = wab * sw.w[2][c];
-          const Vec<3> g(sw.dw[0][a] * sw.w[1][b] * sw.w[2][c],
-                         sw.w[0][a] * sw.dw[1][b] * sw.w[2][c], wab * sw.dw[2][c]);
-          f(row + clamp(2, sw.base[2] + c), N, g);
-        }
-      }
-    }
+    walk_3d(grid, sw, sw.k[0], sw.k[1], sw.k[2], f);
   }
 }
 

@@ -60,15 +60,14 @@ void Simulation<D>::bin_particles_by_slab() {
       const std::int64_t s = std::clamp<std::int64_t>(
           static_cast<std::int64_t>(xi) / plan_.slab_width, 0, plan_.num_slabs - 1);
       plan_.particle_bin[p] = static_cast<std::uint32_t>(s * B + b);
-      for (int d = 0; d < D; ++d) {
-        lo_[b * D + d] = std::min(lo_[b * D + d], P.x[p][d]);
-        hi_[b * D + d] = std::max(hi_[b * D + d], P.x[p][d]);
-      }
-      if (const int f = P.field[p]; f != b) // an orphan stretches its host's box
+      auto stretch = [&](int k) { // body k's bounds take in x_p
         for (int d = 0; d < D; ++d) {
-          lo_[f * D + d] = std::min(lo_[f * D + d], P.x[p][d]);
-          hi_[f * D + d] = std::max(hi_[f * D + d], P.x[p][d]);
+          lo_[k * D + d] = std::min(lo_[k * D + d], P.x[p][d]);
+          hi_[k * D + d] = std::max(hi_[k * D + d], P.x[p][d]);
         }
+      };
+      stretch(b);
+      if (const int f = P.field[p]; f != b) stretch(f); // an orphan stretches its host's box
     }
   }
   // A counting sort by bin, stable in p, over `chunks` contiguous ranges of particles: each
