@@ -71,11 +71,12 @@ Vec<D> smoothed_gradient(const BodyField<D>& N, const Index<D>& g, int radius) {
 
 // Each body's friction at the node is that of its pair with the heaviest other body there; on
 // an interface pair the slave body's interface particles give the friction and the cohesive and
-// tensile capacities (eq. 37). Settling with hold_interfaces holds a bond outright; with
+// tensile capacities (eq. 37), except in a pass on a strain's velocity (`bonds` false: see
+// ContactPass). Settling with hold_interfaces holds a bond outright in every pass; with
 // hold_contacts every pair sticks (unlimited friction).
 template <int D>
 void set_pair_properties(ContactNode<D>& node, const std::int64_t* local, const Setup<D>& setup,
-                         const std::vector<BodyField<D>>& fields, bool settling) {
+                         const std::vector<BodyField<D>>& fields, bool settling, bool bonds) {
   for (int k = 0; k < node.n; ++k) {
     const int other = heaviest_other(node, k);
     node.mu[k] = setup.friction(node.body[k], node.body[other]);
@@ -86,8 +87,7 @@ void set_pair_properties(ContactNode<D>& node, const std::int64_t* local, const 
       const std::int64_t i = local[s] * S.slots + setup.slot(node.body[s], f);
       if (S.area[i] > 0.0) {
         node.mu[k] = S.friction_area[i] / S.area[i];
-        node.cohesion[k] = S.cohesion[i];
-        node.tension[k] = S.tension[i];
+        if (bonds) node.cohesion[k] = S.cohesion[i], node.tension[k] = S.tension[i];
         if (settling && setup.hold_interfaces) node.cohesion[k] = node.tension[k] = inf;
       }
     }
@@ -240,12 +240,13 @@ Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g, const Vec<D>& f
 }
 
 // Reads every field's m, grad m, mx, the bond capacities and the array `velocity`; writes
-// `velocity` where contact corrects it, and with `record` the contact record (forces, work,
+// `velocity` where contact corrects it, and in the momentum pass the contact record (forces, work,
 // contact nodes, interface totals) and the interfaces' slip rates. Nodes are visited row by row
 // along x; the record sums per row and then in row order (thread-count independent).
 template <int D>
 void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
-                                  bool record) {
+                                  ContactPass pass) {
+  const bool record = pass == ContactPass::momentum;
   const int B = num_bodies();
   if (B < 2) return;
   Index<D> lo, hi;
@@ -317,7 +318,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
             for (int k = 0; k < node.n; ++k)
               if (node.surface_normal[k].isZero())
                 node.grad_m[k] = smoothed_gradient<D>(fields_[node.body[k]], g, radius);
-          resolve_node(node, local, g, r, dt, velocity, record);
+          resolve_node(node, local, g, r, dt, velocity, pass);
         }
         // Each deformable body against each other rigid body, in body order, from the velocity
         // the node's law left: a body in a corner (a floor and a wall, a valley floor and a dam)
@@ -335,7 +336,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
             if (const int radius = setup_.normal_smoothing;
                 radius > 0 && pair.surface_normal[1].isZero())
               pair.grad_m[1] = smoothed_gradient<D>(fields_[pair.body[1]], g, radius);
-            resolve_node(pair, pair_local, g, r, dt, velocity, record);
+            resolve_node(pair, pair_local, g, r, dt, velocity, pass);
             node.v[k] = pair.v[0];
           }
       }
@@ -355,8 +356,9 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
 template <int D>
 void Simulation<D>::resolve_node(ContactNode<D>& node, const std::int64_t* local, const Index<D>& g,
                                  std::int64_t r, double dt,
-                                 std::vector<Vec<D>> BodyField<D>::*velocity, bool record) {
-  set_pair_properties(node, local, setup_, fields_, settling_);
+                                 std::vector<Vec<D>> BodyField<D>::*velocity, ContactPass pass) {
+  const bool record = pass == ContactPass::momentum;
+  set_pair_properties(node, local, setup_, fields_, settling_, pass != ContactPass::strain);
   Vec<D> before[max_bodies_at_node];
   for (int k = 0; k < node.n; ++k)
     before[k] = node.v[k];
@@ -392,10 +394,11 @@ void Simulation<D>::resolve_node(ContactNode<D>& node, const std::int64_t* local
 }
 
 #define TALUS_INSTANTIATE(D)                                                                       \
-  template void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*, double, bool);   \
+  template void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*, double,          \
+                                             ContactPass);                                         \
   template void Simulation<D>::resolve_node(ContactNode<D>&, const std::int64_t*, const Index<D>&, \
                                             std::int64_t, double,                                  \
-                                            std::vector<Vec<D>> BodyField<D>::*, bool);
+                                            std::vector<Vec<D>> BodyField<D>::*, ContactPass);
 TALUS_INSTANTIATE(2)
 TALUS_INSTANTIATE(3)
 

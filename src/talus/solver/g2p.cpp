@@ -174,7 +174,7 @@ void Simulation<D>::extrapolate_xpic_velocity(double dt) {
   auto deformable = [&](int b) { return !setup_.bodies[b].rigid && !field_held_[b]; };
   for (int b = 0; b < B; ++b)
     if (!field_held_[b]) fields_[b].xpic_w = fields_[b].v;
-  if (B > 1) apply_contact(&F::xpic_w, dt, false);
+  if (B > 1) apply_contact(&F::xpic_w, dt, ContactPass::carried);
   apply_velocity_conditions(&F::xpic_w);
   for (int b = 0; b < B; ++b)
     if (deformable(b))

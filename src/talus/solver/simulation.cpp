@@ -99,7 +99,8 @@ void Simulation<D>::step(double dt_limit) {
   timed(T.contact), share_interface_loads(); // eq. 37, pore pressure
   timed(T.grid), compute_node_velocities(), apply_velocity_conditions(&F::v); // eq. 19
   if (scheme == Scheme::usf) { // stress first, from the velocity of the mapped momentum
-    timed(T.contact), apply_contact(&F::v, dt_, false), apply_velocity_conditions(&F::v);
+    timed(T.contact), apply_contact(&F::v, dt_, ContactPass::strain),
+        apply_velocity_conditions(&F::v);
     timed(T.stress), update_stress(&F::v, dt_); // eq. 24-28
     timed(T.p2g), map_forces_to_nodes();        // eq. 17-18
     timed(T.grid), hold_hydrostatic_load();
@@ -108,11 +109,12 @@ void Simulation<D>::step(double dt_limit) {
   timed(T.grid), integrate_node_forces(dt_), apply_velocity_conditions(&F::v_new); // eq. 20
   // Eq. 31-37: contact on v^{n+1}, recorded (forces, work, contact nodes, slip rates), after the
   // interfaces' pore pressure has pushed each pair apart.
-  timed(T.contact), apply_contact(&F::v_new, dt_, true), apply_velocity_conditions(&F::v_new);
+  timed(T.contact), apply_contact(&F::v_new, dt_, ContactPass::momentum),
+      apply_velocity_conditions(&F::v_new);
   if (setup_.xpic > 0) timed(T.g2p), extrapolate_xpic_velocity(dt_); // XPIC(m)'s v*
   if (scheme == Scheme::musl) { // eq. 22-23, then the re-map and the stress from it
     timed(T.g2p), update_particles_and_remap(dt_), apply_velocity_conditions(&F::v_remap);
-    timed(T.contact), apply_contact(&F::v_remap, dt_, false);
+    timed(T.contact), apply_contact(&F::v_remap, dt_, ContactPass::strain);
     timed(T.contact), apply_velocity_conditions(&F::v_remap);
     timed(T.stress), update_stress(&F::v_remap, dt_);
   } else {

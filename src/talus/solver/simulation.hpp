@@ -39,6 +39,13 @@ struct PhaseTimes {
 template <int D>
 class ParticleStore;
 
+// What a contact pass corrects (Simulation::apply_contact): the step's momentum, v^{n+1}
+// (recorded: forces, work, slip rates); a velocity a strain alone is taken from (USF's v^n and
+// MUSL's re-map), where the pairs' friction and impenetrability act but not their bonds, whose
+// capacity the momentum pass spends (docs/formulation.md, "Contact and the strain's velocity");
+// or XPIC's start-of-step field, which the particles carry.
+enum class ContactPass { momentum, strain, carried };
+
 template <int D>
 class Simulation {
 public:
@@ -171,15 +178,15 @@ public:
   void integrate_node_forces(double dt);
   void hold_hydrostatic_load();
   void apply_velocity_conditions(std::vector<Vec<D>> BodyField<D>::*velocity);
-  // Contact on one velocity array of every body field (v, v_new or v_remap); `record` keeps its
-  // forces, work, contact nodes and the interfaces' slip rates.
-  void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, bool record);
+  // Contact on one velocity array of every body field (v, v_new, v_remap or xpic_w); the
+  // momentum pass keeps its forces, work, contact nodes and the interfaces' slip rates.
+  void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, ContactPass pass);
   // The law at one node of contact row r (its bodies' fields at `local`): their friction and
-  // bonds, the pore pressure's push, the correction written to `velocity`, and with `record`
-  // the forces, work, contact nodes and slip rates.
+  // bonds, the pore pressure's push, the correction written to `velocity`, and in the momentum
+  // pass the forces, work, contact nodes and slip rates.
   void resolve_node(ContactNode<D>& node, const std::int64_t* local, const Index<D>& g,
                     std::int64_t r, double dt, std::vector<Vec<D>> BodyField<D>::*velocity,
-                    bool record);
+                    ContactPass pass);
   // Body b's geometric normal at node g, cached for a body whose geometry stays put; on an edge
   // of its geometry, the normal seen from `from`.
   Vec<D> geometric_normal(int b, const Index<D>& g, const Vec<D>& from);
