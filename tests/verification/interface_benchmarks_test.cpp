@@ -98,6 +98,14 @@ TEST(CohesiveBlock, SlidesWithTheClosedFormAndItsForces) {
   EXPECT_NEAR(r.mean_cohesive, c * A, 0.01 * c * A);
 }
 
+// The block held by its bond (resistance over drive 1.07): c 2 kPa and mu 0.5 that do not
+// degrade, settled 0.3 s with the interface at its own strength (the last entry).
+std::vector<std::string> held_block() {
+  return {"interface.0.friction.initial=0.5",  "interface.0.friction.residual=0.5",
+          "interface.0.cohesion.initial=2000", "interface.0.cohesion.residual=2000",
+          "initial_state.settle_time=0.3",     "initial_state.hold_interfaces=false"};
+}
+
 // Held: mu = 0.5 and c = 2 kPa give c A + mu m g cos(theta) = 10495 N >= m g sin(theta) = 9810 N.
 // The closed form (a rigid block) does not move at all. The elastic block is not uniformly loaded:
 // the weight's moment about the base unloads the upslope end, where the local traction exceeds
@@ -108,10 +116,7 @@ TEST(CohesiveBlock, SlidesWithTheClosedFormAndItsForces) {
 // outright while settling, that partial slip happens after release instead: 1.9e-4 m, recorded
 // here and in docs/verification.md. Started unstressed with no settling it is 2.4 mm.
 TEST(CohesiveBlock, HeldByCohesionStaysPut) {
-  const std::vector<std::string> held = {
-      "interface.0.friction.initial=0.5",  "interface.0.friction.residual=0.5",
-      "interface.0.cohesion.initial=2000", "interface.0.cohesion.residual=2000",
-      "initial_state.settle_time=0.3",     "initial_state.hold_interfaces=false"};
+  const std::vector<std::string> held = held_block();
   const BlockRun r = run_block(held, {2.0});
   std::vector<std::string> held_outright = held;
   held_outright.back() = "initial_state.hold_interfaces=true";
@@ -147,10 +152,7 @@ TEST(CohesiveBlock, HeldByCohesionStaysPut) {
 // the plane at 2.5 cm/s under PIC with a 20 kPa bond (docs/formulation.md, "Contact and the
 // strain's velocity"). Now each holds within the 1e-4 m the closed form allows.
 TEST(CohesiveBlock, HeldUnderEveryTransferAndShape) {
-  const std::vector<std::string> held = {
-      "interface.0.friction.initial=0.5",  "interface.0.friction.residual=0.5",
-      "interface.0.cohesion.initial=2000", "interface.0.cohesion.residual=2000",
-      "initial_state.settle_time=0.3",     "initial_state.hold_interfaces=false"};
+  const std::vector<std::string> held = held_block();
   const std::vector<std::pair<std::string, std::vector<std::string>>> variants = {
       {"PIC", {"simulation.flip=0"}},
       {"XPIC(2)", {"simulation.xpic=2"}},
