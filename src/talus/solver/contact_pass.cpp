@@ -113,8 +113,14 @@ void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const S
     const int f = setup.interface_of(node.body[k], node.body[other]);
     if (f < 0) continue; // no bond
     const std::int64_t j = local[k] * K.slots + setup.slot(node.body[k], f);
-    // The normal force here per unit of body k's interface area: its particles' normal stress.
-    if (K.needs.pressure && K.area[j] > 0.0)
+    // The normal force here per unit of body k's interface area: its particles' normal stress
+    // (their bands' sigma_n). Only where the law corrected body k against its partner alone: the
+    // pair meets alone, or the partner is the node's rigid body (whose velocity is the node's
+    // reference). Where a third deformable body shares the node the normal impulse is body k's
+    // against all of them (their centre of mass), not the traction across this interface: at a
+    // part's leading corner, where it rams the next part while sliding on the band, it is the
+    // ram's (docs/formulation.md, "Thermal pressurization").
+    if (K.needs.pressure && K.area[j] > 0.0 && (node.n == 2 || node.rigid[other]))
       K.normal_stress[j] = node.normal_impulse[k] / (dt * K.area[j]);
     const Vec<D> rel = node.v[k] - node.v[other];
     const Vec<D>& nrm = node.normal[k];
