@@ -119,7 +119,7 @@ void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const S
     // reference). Where a third deformable body shares the node the normal impulse is body k's
     // against all of them (their centre of mass), not the traction across this interface: at a
     // part's leading corner, where it rams the next part while sliding on the band, it is the
-    // ram's (docs/formulation.md, "Thermal pressurization").
+    // ram's (docs/formulation.md, "Pore pressure on an interface").
     if (K.needs.pressure && K.area[j] > 0.0 && (node.n == 2 || node.rigid[other]))
       K.normal_stress[j] = node.normal_impulse[k] / (dt * K.area[j]);
     const Vec<D> rel = node.v[k] - node.v[other];
