@@ -248,7 +248,8 @@ void read_boundaries(TableReader& root, Case& c) {
 }
 
 // [[contact]]: an entry with `bodies` sets that pair's friction; one entry without sets the
-// default friction, the gap check, the normal smoothing and the orphan fraction.
+// default friction, the gap check, the normal smoothing, the law at a node of three or more
+// bodies and the orphan fraction.
 void read_contact(TableReader& root, Case& c) {
   const std::vector<std::string> body_names = names_of(c.bodies);
   bool has_default = false;
@@ -263,6 +264,8 @@ void read_contact(TableReader& root, Case& c) {
       c.contact.gap_cutoff = r.number("gap_cutoff", 0.8);
       c.contact.normal_smoothing =
           r.integer("normal_smoothing", c.contact.normal_smoothing, 0, max_normal_smoothing);
+      c.contact.pairwise_nodes =
+          r.choice("node_law", {"pairs", "centre_of_mass"}, "pairs") == "pairs";
       c.contact.orphan_fraction = r.number("orphan_fraction", c.contact.orphan_fraction);
       require(r, "orphan_fraction",
               c.contact.orphan_fraction >= 0.0 && c.contact.orphan_fraction < 0.5,

@@ -1,6 +1,9 @@
 // Multi-velocity-field contact at one node (paper section 2.3): each body at the node is compared
-// with the centre of mass of all bodies there, so three or more bodies work and the node's total
-// momentum is conserved to round-off. A pure function of the node's data, tested on its own.
+// with the centre of mass of all bodies there and the node's total momentum is conserved to
+// round-off (a rigid body's velocity is the reference where one is present). The solver gives it
+// three or more bodies only where a rigid body is among them or contact.node_law =
+// "centre_of_mass" (the paper's law); three or more deformable bodies are otherwise resolved pair
+// by pair (Simulation::apply_contact). A pure function of the node's data, tested on its own.
 #pragma once
 
 #include "talus/core/math.hpp"
@@ -26,6 +29,9 @@ struct ContactNode {
   Vec<D> surface_normal[max_bodies_at_node];
   double mu[max_bodies_at_node]{};   // friction of each body against the others
   double rank[max_bodies_at_node]{}; // master-body order: the larger rank gives the normal
+  // Two deformable bodies resolved as one pair of a node three or more share: the normal is
+  // grad m_k - grad m_j, the two gradients alike (a corner of the master does not tilt it).
+  bool symmetric = false;
   // Cohesive interface seen by each body against the others (paper section 2.4, eq. 37): the
   // cohesive capacity sum N c^p A^p (N) and the tensile capacity (N) of the interface particles
   // at the node; zero where the pair is purely frictional. The interface's friction is in mu.
@@ -59,9 +65,10 @@ struct ContactLaw {
 // The contact normal at the node, outward from body k, unnormalised (zero: none). A rigid body's
 // exact geometric normal if known. Two bodies: the mass gradient of the master body (the larger
 // rank, i.e. the body with more total mass, as Huang et al. 2011's master-slave choice), which
-// keeps the normals collinear and is not fooled by the corners of the smaller body. Three or
-// more: own gradient minus the others'. `rigid`: the heaviest rigid body here (-1: none); G: the
-// sum of the bodies' mass gradients.
+// keeps the normals collinear and is not fooled by the corners of the smaller body; a pair of a
+// node three or more bodies share (`symmetric`), own gradient minus the other's. Three or more
+// in one law (contact.node_law = "centre_of_mass"): own gradient minus the others'. `rigid`: the
+// heaviest rigid body here (-1: none); G: the sum of the bodies' mass gradients.
 template <int D>
 Vec<D> contact_direction(const ContactNode<D>& node, int k, int rigid, const Vec<D>& G) {
   const int n = node.n;
@@ -70,6 +77,7 @@ Vec<D> contact_direction(const ContactNode<D>& node, int k, int rigid, const Vec
     return master == k ? node.surface_normal[k] : Vec<D>(-node.surface_normal[master]);
   if (n == 2) {
     const int j = 1 - k;
+    if (node.symmetric) return node.grad_m[k] - node.grad_m[j];
     const bool own = rigid < 0 ? node.rank[k] > node.rank[j] : false;
     return own ? node.grad_m[k] : Vec<D>(-node.grad_m[j]);
   }

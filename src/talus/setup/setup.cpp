@@ -88,6 +88,7 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const std::vector<double
   s.hold_interfaces = c.initial_state.hold_interfaces;
   s.hold_contacts = c.initial_state.hold_contacts;
   s.normal_smoothing = c.contact.normal_smoothing;
+  s.pairwise_nodes = c.contact.pairwise_nodes;
   s.orphan_fraction = c.contact.orphan_fraction;
   s.record_contact_nodes = c.output.contact_nodes;
   s.time_step.fixed_dt = c.simulation.dt;

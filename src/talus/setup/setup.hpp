@@ -75,6 +75,7 @@ struct Setup {
   bool hold_interfaces = true;                // settling holds bonded interfaces outright
   bool hold_contacts = false;                 // settling sticks every contact
   int normal_smoothing = 1;                   // cells
+  bool pairwise_nodes = true;                 // contact.node_law = "pairs"
   double orphan_fraction = 0.0;
   bool record_contact_nodes = false; // output.contact_nodes
   TimeStepSetup time_step;

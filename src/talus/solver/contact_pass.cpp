@@ -6,6 +6,7 @@
 #include "talus/solver/simulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -114,12 +115,12 @@ void measure_slip(const ContactNode<D>& node, const std::int64_t* local, const S
     if (f < 0) continue; // no bond
     const std::int64_t j = local[k] * K.slots + setup.slot(node.body[k], f);
     // The normal force here per unit of body k's interface area: its particles' normal stress
-    // (their bands' sigma_n). Only where the law corrected body k against its partner alone: the
-    // pair meets alone, or the partner is the node's rigid body (whose velocity is the node's
-    // reference). Where a third deformable body shares the node the normal impulse is body k's
-    // against all of them (their centre of mass), not the traction across this interface: at a
-    // part's leading corner, where it rams the next part while sliding on the band, it is the
-    // ram's (docs/formulation.md, "Pore pressure on an interface").
+    // (their bands' sigma_n). Only where the law corrected body k against its partner alone:
+    // the pair meets alone (two bodies here, or one pair of a node resolved pair by pair), or the
+    // partner is the node's rigid body. Under contact.node_law = "centre_of_mass" a node of three
+    // deformable bodies gives body k's impulse against all the others, at a part's leading
+    // corner the ram's, not the traction across this interface (docs/formulation.md, "Pore
+    // pressure on an interface").
     if (K.needs.pressure && K.area[j] > 0.0 && (node.n == 2 || node.rigid[other]))
       K.normal_stress[j] = node.normal_impulse[k] / (dt * K.area[j]);
     const Vec<D> rel = node.v[k] - node.v[other];
@@ -309,7 +310,61 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         // the node's own law and each other rigid body in a pair of its own, after it (below).
         rigid_others.n = 0;
         split_rigid_others(node, local, rigid_others, rigid_local);
-        if (node.n >= 2) {
+        bool rigid_here = false;
+        for (int k = 0; k < node.n; ++k)
+          rigid_here = rigid_here || node.rigid[k];
+        if (node.n >= 3 && setup_.pairwise_nodes && !rigid_here) {
+          // Three or more deformable bodies (docs/formulation.md, "Three or more bodies at a
+          // node"): the two-body law on each pair in turn, lightest pair (by nodal mass) first,
+          // so that the heaviest, usually a part on the bedrock, is resolved last and holds
+          // exactly; each pair takes the normal grad m_a - grad m_b, which a corner of either
+          // does not tilt towards a third body. (With a rigid body here, the law below holds
+          // each body against its velocity.)
+          if (const int radius = setup_.normal_smoothing; radius > 0)
+            for (int k = 0; k < node.n; ++k)
+              if (!setup_.bodies[node.body[k]].normal_geometry)
+                node.grad_m[k] = smoothed_gradient<D>(fields_[node.body[k]], g, radius);
+          std::array<int, 2> order[max_bodies_at_node * (max_bodies_at_node - 1) / 2];
+          int pairs = 0;
+          for (int a = 0; a < node.n; ++a)
+            for (int b = a + 1; b < node.n; ++b)
+              order[pairs++] = {a, b};
+          std::stable_sort(order, order + pairs, [&](const auto& p, const auto& q) {
+            return node.m[p[0]] + node.m[p[1]] < node.m[q[0]] + node.m[q[1]];
+          });
+          // Each pair records the work of its own correction, m dv . (v^n + v) / 2 with v its
+          // velocity after that pair; the node's work on a body is that of its whole change,
+          // m (v_end - v_0) . (v^n + v_end) / 2, and the difference is added at the end.
+          Vec<D> v0[max_bodies_at_node];
+          double pair_work[max_bodies_at_node]{};
+          for (int k = 0; k < node.n; ++k)
+            v0[k] = node.v[k];
+          for (int i = 0; i < pairs; ++i) {
+            const auto [a, b] = order[i];
+            ContactNode<D> pair;
+            std::int64_t pair_local[2] = {local[a], local[b]};
+            pair.n = 2;
+            copy_body(node, a, pair, 0);
+            copy_body(node, b, pair, 1);
+            pair.symmetric = true;
+            for (int k = 0; k < 2; ++k)
+              if (setup_.bodies[pair.body[k]].normal_geometry)
+                pair.surface_normal[k] = geometric_normal(pair.body[k], g, pair.x[1 - k]);
+            resolve_node(pair, pair_local, g, r, dt, velocity, pass);
+            for (const int k : {a, b}) {
+              const Vec<D>& v_new = pair.v[k == a ? 0 : 1];
+              const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
+              pair_work[k] += node.m[k] * (v_new - node.v[k]).dot(0.5 * (v_start + v_new));
+              node.v[k] = v_new;
+            }
+          }
+          if (pass == ContactPass::momentum)
+            for (int k = 0; k < node.n; ++k) {
+              const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
+              const double whole = node.m[k] * (node.v[k] - v0[k]).dot(0.5 * (v_start + node.v[k]));
+              record_.add_work(r, node.body[k], whole - pair_work[k]);
+            }
+        } else if (node.n >= 2) {
           for (int k = 0; k < node.n; ++k)
             if (setup_.bodies[node.body[k]].normal_geometry) { // from the others' mass here
               Vec<D> mx = Vec<D>::Zero();

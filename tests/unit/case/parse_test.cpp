@@ -235,6 +235,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"normal_smoothing_not_an_integer", "[output]",
                 "[[contact]]\nfriction = 0.2\nnormal_smoothing = 1.5\n[output]",
                 "inline.toml:40: contact[0].normal_smoothing: expected an integer"},
+        BadCase{"node_law_unknown", "[output]",
+                "[[contact]]\nfriction = 0.2\nnode_law = \"master\"\n[output]",
+                "inline.toml:40: contact[0].node_law"},
         BadCase{"orphan_fraction_on_a_pair", "[output]",
                 "[[contact]]\nbodies = [\"block\", \"ball\"]\nfriction = 0.2\n"
                 "orphan_fraction = 0.2\n[output]",

@@ -159,5 +159,19 @@ TEST(Contact, ThreeBodiesAtOneNodeConserveMomentum) {
   EXPECT_LT(approach_after, 0.05 * approach_before);
 }
 
+// A pair of a node that three or more bodies share (`symmetric`): the normal is the difference of
+// the two mass gradients, so a corner of the master (a gradient pointing diagonally out of it)
+// does not tilt it, and it stays opposite for the two bodies.
+TEST(Contact, SymmetricPairTakesTheDifferenceOfTheGradients) {
+  ContactNode<2> node = two_bodies(0.0);
+  node.rank[0] = 10.0, node.rank[1] = 1.0; // body 0 the master
+  node.grad_m[0] = Vec<2>(1.0, -1.0);      // the master's corner: out of it along +x and -y
+  node.grad_m[1] = Vec<2>(-1.0, -1.0);     // the other's corner, mirrored
+  EXPECT_TRUE(contact_direction(node, 1).isApprox(Vec<2>(-1.0, 1.0))); // the master's, reversed
+  node.symmetric = true;
+  EXPECT_TRUE(contact_direction(node, 0).isApprox(Vec<2>(2.0, 0.0)));
+  EXPECT_TRUE(contact_direction(node, 1).isApprox(Vec<2>(-2.0, 0.0)));
+}
+
 } // namespace
 } // namespace talus
