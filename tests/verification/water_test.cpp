@@ -365,6 +365,26 @@ std::pair<double, double> band_normal_force(Simulation<2>& sim, double t) {
   return {sum / span, largest};
 }
 
+// The floor of the two tests below, held, and the band on it under body "block" (body 0;
+// friction 0.3, pore pressure 1 kPa so that its particles keep their sigma_n), all deformable.
+const std::string held_floor_under_band = R"(
+[[body]]
+name = "floor"
+material = "rock"
+box = { min = [0.0, 0.0], max = [4.0, 0.2] }
+[[interface]]
+bodies = ["block", "floor"]
+friction = { initial = 0.3 }
+cohesion = { initial = 0.0 }
+pore_pressure = 1000.0
+[[boundary]]
+body = "floor"
+velocity = [0.0, 0.0]
+[initial_state]
+settle_time = 0.2
+hold_interfaces = false
+)";
+
 // A block on a band, rammed from behind by a second block driven along the floor (the floor held,
 // all three deformable, the ram frictionless): the normal stresses its interface particles
 // carry (their bands' sigma_n) add up to the block's weight, sum sigma_n^p A^p = m g. At the
@@ -379,24 +399,10 @@ box = { min = [1.5, 0.2], max = [2.5, 0.7] }
 name = "ram"
 material = "rock"
 box = { min = [0.5, 0.2], max = [1.5, 0.7] }
-[[body]]
-name = "floor"
-material = "rock"
-box = { min = [0.0, 0.0], max = [4.0, 0.2] }
-[[interface]]
-bodies = ["block", "floor"]
-friction = { initial = 0.3 }
-cohesion = { initial = 0.0 }
-pore_pressure = 1000.0
+)" + held_floor_under_band + R"(
 [[boundary]]
 body = "ram"
 velocity_x = 0.2
-[[boundary]]
-body = "floor"
-velocity = [0.0, 0.0]
-[initial_state]
-settle_time = 0.2
-hold_interfaces = false
 )";
 
 TEST(PorePressure, BandNormalStressAddsUpToTheWeightOfABlockRammedFromBehind) {
@@ -435,29 +441,16 @@ box = { min = [1.5, 0.2], max = [2.4, 0.7] }
 name = "wall"
 material = "rock"
 box = { min = [2.5, 0.2], max = [3.0, 0.9] }
-[[body]]
-name = "floor"
-material = "rock"
-box = { min = [0.0, 0.0], max = [4.0, 0.2] }
-[[interface]]
-bodies = ["block", "floor"]
-friction = { initial = 0.05 }
-cohesion = { initial = 0.0 }
-pore_pressure = 1000.0
+)" + held_floor_under_band + R"(
 [[boundary]]
 body = "wall"
 velocity = [0.0, 0.0]
-[[boundary]]
-body = "floor"
-velocity = [0.0, 0.0]
-[initial_state]
-settle_time = 0.2
-hold_interfaces = false
 )";
 
 TEST(PorePressure, BandNormalStressCarriesABlockThatSlidIntoAWall) {
   const double weight = 2000.0 * 0.9 * 0.5 * 9.218; // m g cos(theta), N per m
-  const Case cs = test::case_from(block_into_wall, {"simulation.gravity=[3.355, -9.218]"});
+  const Case cs = test::case_from(
+      block_into_wall, {"simulation.gravity=[3.355, -9.218]", "interface.0.friction.initial=0.05"});
   Simulation<2> sim(cs);
   test::settle(sim, cs);
   const auto& P = sim.particles();
