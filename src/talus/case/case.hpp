@@ -132,9 +132,9 @@ struct ContactSettings {
   // Contact normals from each body's mass gradient smoothed over the nodes within this many
   // cells (0: the node's own gradient; 2 rounds small blocks' corners). docs/formulation.md.
   int normal_smoothing = 1;
-  // A node three or more deformable bodies share (no rigid one): the two-body law on each pair in
-  // turn (node_law "pairs");
-  // false: each body against the centre of mass of all (the paper's, "centre_of_mass").
+  // A node three or more deformable bodies share (no rigid one): true, the two-body law on each
+  // pair in turn (node_law "pairs"); false, each body against the centre of mass of all (the
+  // paper's law, "centre_of_mass").
   bool pairwise_nodes = true;
   // A deformable body's particle whose own-body neighbours put less than this fraction of a
   // filled cell's mass on its nodes, with another deformable body's mass around it, maps to that
