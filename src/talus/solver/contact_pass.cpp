@@ -310,60 +310,10 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         // the node's own law and each other rigid body in a pair of its own, after it (below).
         rigid_others.n = 0;
         split_rigid_others(node, local, rigid_others, rigid_local);
-        bool rigid_here = false;
-        for (int k = 0; k < node.n; ++k)
-          rigid_here = rigid_here || node.rigid[k];
+        const bool rigid_here =
+            std::any_of(node.rigid, node.rigid + node.n, [](bool rigid) { return rigid; });
         if (node.n >= 3 && setup_.pairwise_nodes && !rigid_here) {
-          // Three or more deformable bodies (docs/formulation.md, "Three or more bodies at a
-          // node"): the two-body law on each pair in turn, lightest pair (by nodal mass) first,
-          // so that the heaviest, usually a part on the bedrock, is resolved last and holds
-          // exactly; each pair takes the normal grad m_a - grad m_b, which a corner of either
-          // does not tilt towards a third body. (With a rigid body here, the law below holds
-          // each body against its velocity.)
-          if (const int radius = setup_.normal_smoothing; radius > 0)
-            for (int k = 0; k < node.n; ++k)
-              if (!setup_.bodies[node.body[k]].normal_geometry)
-                node.grad_m[k] = smoothed_gradient<D>(fields_[node.body[k]], g, radius);
-          std::array<int, 2> order[max_bodies_at_node * (max_bodies_at_node - 1) / 2];
-          int pairs = 0;
-          for (int a = 0; a < node.n; ++a)
-            for (int b = a + 1; b < node.n; ++b)
-              order[pairs++] = {a, b};
-          std::stable_sort(order, order + pairs, [&](const auto& p, const auto& q) {
-            return node.m[p[0]] + node.m[p[1]] < node.m[q[0]] + node.m[q[1]];
-          });
-          // Each pair records the work of its own correction, m dv . (v^n + v) / 2 with v its
-          // velocity after that pair; the node's work on a body is that of its whole change,
-          // m (v_end - v_0) . (v^n + v_end) / 2, and the difference is added at the end.
-          Vec<D> v0[max_bodies_at_node];
-          double pair_work[max_bodies_at_node]{};
-          for (int k = 0; k < node.n; ++k)
-            v0[k] = node.v[k];
-          for (int i = 0; i < pairs; ++i) {
-            const auto [a, b] = order[i];
-            ContactNode<D> pair;
-            std::int64_t pair_local[2] = {local[a], local[b]};
-            pair.n = 2;
-            copy_body(node, a, pair, 0);
-            copy_body(node, b, pair, 1);
-            pair.symmetric = true;
-            for (int k = 0; k < 2; ++k)
-              if (setup_.bodies[pair.body[k]].normal_geometry)
-                pair.surface_normal[k] = geometric_normal(pair.body[k], g, pair.x[1 - k]);
-            resolve_node(pair, pair_local, g, r, dt, velocity, pass);
-            for (const int k : {a, b}) {
-              const Vec<D>& v_new = pair.v[k == a ? 0 : 1];
-              const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
-              pair_work[k] += node.m[k] * (v_new - node.v[k]).dot(0.5 * (v_start + v_new));
-              node.v[k] = v_new;
-            }
-          }
-          if (pass == ContactPass::momentum)
-            for (int k = 0; k < node.n; ++k) {
-              const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
-              const double whole = node.m[k] * (node.v[k] - v0[k]).dot(0.5 * (v_start + node.v[k]));
-              record_.add_work(r, node.body[k], whole - pair_work[k]);
-            }
+          resolve_pairwise(node, local, g, r, dt, velocity, pass);
         } else if (node.n >= 2) {
           for (int k = 0; k < node.n; ++k)
             if (setup_.bodies[node.body[k]].normal_geometry) { // from the others' mass here
@@ -414,6 +364,62 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
   if (record) record_.end();
 }
 
+// A node three or more deformable bodies share (docs/formulation.md, "Three or more bodies at a
+// node"): the two-body law on each pair in turn, lightest pair (by nodal mass) first, so that the
+// heaviest, usually a part on the bedrock, is resolved last and holds exactly; each pair takes the
+// normal grad m_a - grad m_b, which a corner of either does not tilt towards a third body. (With a
+// rigid body at the node, the node's own law holds each body against its velocity.)
+template <int D>
+void Simulation<D>::resolve_pairwise(ContactNode<D>& node, const std::int64_t* local,
+                                     const Index<D>& g, std::int64_t r, double dt,
+                                     std::vector<Vec<D>> BodyField<D>::*velocity,
+                                     ContactPass pass) {
+  if (const int radius = setup_.normal_smoothing; radius > 0)
+    for (int k = 0; k < node.n; ++k)
+      if (!setup_.bodies[node.body[k]].normal_geometry)
+        node.grad_m[k] = smoothed_gradient<D>(fields_[node.body[k]], g, radius);
+  std::array<int, 2> order[max_bodies_at_node * (max_bodies_at_node - 1) / 2];
+  int pairs = 0;
+  for (int a = 0; a < node.n; ++a)
+    for (int b = a + 1; b < node.n; ++b)
+      order[pairs++] = {a, b};
+  std::stable_sort(order, order + pairs, [&](const auto& p, const auto& q) {
+    return node.m[p[0]] + node.m[p[1]] < node.m[q[0]] + node.m[q[1]];
+  });
+  // Each pair records the work of its own correction, m dv . (v^n + v) / 2 with v its
+  // velocity after that pair; the node's work on a body is that of its whole change,
+  // m (v_end - v_0) . (v^n + v_end) / 2, and the difference is added at the end.
+  Vec<D> v0[max_bodies_at_node];
+  double pair_work[max_bodies_at_node]{};
+  for (int k = 0; k < node.n; ++k)
+    v0[k] = node.v[k];
+  for (int i = 0; i < pairs; ++i) {
+    const auto [a, b] = order[i];
+    ContactNode<D> pair;
+    std::int64_t pair_local[2] = {local[a], local[b]};
+    pair.n = 2;
+    copy_body(node, a, pair, 0);
+    copy_body(node, b, pair, 1);
+    pair.symmetric = true;
+    for (int k = 0; k < 2; ++k)
+      if (setup_.bodies[pair.body[k]].normal_geometry)
+        pair.surface_normal[k] = geometric_normal(pair.body[k], g, pair.x[1 - k]);
+    resolve_node(pair, pair_local, g, r, dt, velocity, pass);
+    for (const int k : {a, b}) {
+      const Vec<D>& v_new = pair.v[k == a ? 0 : 1];
+      const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
+      pair_work[k] += node.m[k] * (v_new - node.v[k]).dot(0.5 * (v_start + v_new));
+      node.v[k] = v_new;
+    }
+  }
+  if (pass == ContactPass::momentum)
+    for (int k = 0; k < node.n; ++k) {
+      const Vec<D>& v_start = fields_[node.body[k]].v[local[k]];
+      const double whole = node.m[k] * (node.v[k] - v0[k]).dot(0.5 * (v_start + node.v[k]));
+      record_.add_work(r, node.body[k], whole - pair_work[k]);
+    }
+}
+
 template <int D>
 void Simulation<D>::resolve_node(ContactNode<D>& node, const std::int64_t* local, const Index<D>& g,
                                  std::int64_t r, double dt,
@@ -457,6 +463,9 @@ void Simulation<D>::resolve_node(ContactNode<D>& node, const std::int64_t* local
 #define TALUS_INSTANTIATE(D)                                                                       \
   template void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*, double,          \
                                              ContactPass);                                         \
+  template void Simulation<D>::resolve_pairwise(ContactNode<D>&, const std::int64_t*,              \
+                                                const Index<D>&, std::int64_t, double,             \
+                                                std::vector<Vec<D>> BodyField<D>::*, ContactPass); \
   template void Simulation<D>::resolve_node(ContactNode<D>&, const std::int64_t*, const Index<D>&, \
                                             std::int64_t, double,                                  \
                                             std::vector<Vec<D>> BodyField<D>::*, ContactPass);

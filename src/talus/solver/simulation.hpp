@@ -181,6 +181,11 @@ public:
   // Contact on one velocity array of every body field (v, v_new, v_remap or xpic_w); the
   // momentum pass keeps its forces, work, contact nodes and the interfaces' slip rates.
   void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, ContactPass pass);
+  // A node three or more deformable bodies share, resolved pair by pair with resolve_node
+  // (contact.node_law = "pairs"); in the momentum pass each body's work is its whole change's.
+  void resolve_pairwise(ContactNode<D>& node, const std::int64_t* local, const Index<D>& g,
+                        std::int64_t r, double dt, std::vector<Vec<D>> BodyField<D>::*velocity,
+                        ContactPass pass);
   // The law at one node of contact row r (its bodies' fields at `local`): their friction and
   // bonds, the pore pressure's push, the correction written to `velocity`, and in the momentum
   // pass the forces, work, contact nodes and slip rates.
