@@ -3,8 +3,9 @@
 phase and in the run proper, between checkpoints) and restarted with `talus run --restart`
 must leave a run folder identical to a run that was never stopped: every CSV, every VTU frame
 and the ParaView series byte for byte, and the same results in summary.json; also for a case
-whose fixed body is written once (particles_fixed.vtu). The interrupted and
-restarted runs use 1 and 2 threads crosswise, so this also checks the deterministic scatter.
+whose fixed body is written once (particles_fixed.vtu), and for a contact at surface points. The
+interrupted and restarted runs use 1 and 2 threads crosswise, so this also checks the
+deterministic scatter.
 
 The faults are injected with TALUS_INJECT_SIGNAL=SIGNAL:STEP, which makes the program raise the
 signal on itself right after that step (the handler path is the real one).
@@ -143,6 +144,28 @@ for label, sig, step, t1, t2 in [("fixed_sigint_settling", signal.SIGINT, 5, 1, 
         continue
     if written is not None and fixed.stat().st_mtime_ns != written:
         failures.append(f"{label}: the restart wrote particles_fixed.vtu again")
+    compare(ref, out, label)
+
+# Contact at surface points (law = "surface"): the points are rebuilt from the particles' first
+# positions on a restart, and the run continues to the same bits (a disk rolling at mu 10,
+# settled with its contact held, then released).
+case = source / "cases/benchmarks/general_rolling.toml"
+settings = ["grid.cell_size=0.1", "contact.0.friction=10",
+            "simulation.gravity=[4.905, -8.49570921113]", "initial_state.settle_time=0.1",
+            "initial_state.hold_contacts=true", "simulation.end_time=0.4", "output.every=0.05",
+            "output.particles=true", "checkpoint.every=0.1", "checkpoint.wall_minutes=0"]
+ref = fresh("surface_reference")
+code, err = run(case_args(ref), 2)
+assert code == 0, f"surface-contact reference run failed ({code}): {err}"
+total = json.loads((ref / "summary.json").read_text())["steps"]
+for label, sig, step, t1, t2 in [("surface_sigterm", signal.SIGTERM, total // 2, 1, 2),
+                                 ("surface_kill9", signal.SIGKILL, (3 * total) // 4, 2, 1)]:
+    out = fresh(label)
+    run(case_args(out), t1, (sig, step))
+    code, err = run(["--restart", str(out)], t2)
+    if code != 0:
+        failures.append(f"{label}: restart failed ({code}): {err.strip()}")
+        continue
     compare(ref, out, label)
 
 code, err = run(["--restart", str(work / "no_such_run")], 1)

@@ -231,6 +231,100 @@ Vec<D> surface_normal(const Geometry& g, const Vec<D>& x, bool* edge) {
   return n;
 }
 
+bool has_exact_surface(const Geometry& g, int dimension) {
+  return g.kind == Geometry::Kind::box || g.kind == Geometry::Kind::disk ||
+         (g.kind == Geometry::Kind::polygon && dimension == 2);
+}
+
+template <int D>
+double signed_distance(const Geometry& g, const Vec<D>& x, Vec<D>& normal) {
+  normal.setZero();
+  if (g.kind == Geometry::Kind::disk) { // |x - c| - R, radial
+    Vec<D> r;
+    for (int d = 0; d < D; ++d)
+      r[d] = x[d] - g.center[d];
+    const double len = r.norm();
+    if (len > 0.0)
+      normal = r / len;
+    else
+      normal[D - 1] = 1.0;
+    return len - g.radius;
+  }
+  if (g.kind == Geometry::Kind::box) {
+    // Outside: the distance to the box's nearest point, from it; inside: the nearest face's.
+    Vec<D> out;
+    for (int d = 0; d < D; ++d)
+      out[d] = x[d] < g.min[d] ? x[d] - g.min[d] : (x[d] > g.max[d] ? x[d] - g.max[d] : 0.0);
+    if (const double len = out.norm(); len > 0.0) {
+      normal = out / len;
+      return len;
+    }
+    double least = inf;
+    for (int d = 0; d < D; ++d)
+      for (int side = 0; side < 2; ++side)
+        if (const double dist = side ? g.max[d] - x[d] : x[d] - g.min[d]; dist < least)
+          least = dist, normal.setZero(), normal[d] = side ? 1.0 : -1.0;
+    return -least;
+  }
+  if constexpr (D == 2)
+    if (g.kind == Geometry::Kind::polygon) {
+      // The nearest edge's point q: outside, the normal is (x - q) / |x - q| (beyond a vertex,
+      // from the vertex); inside or on it, the edge's outward normal.
+      Vec<2> q;
+      const auto [dist, edge_normal] = nearest_edge(g.vertices, x, {}, &q);
+      const bool in = point_in_polygon(g.vertices, x[0], x[1]);
+      normal = in || !(dist > 0.0) ? edge_normal : Vec<2>((x - q) / dist);
+      return in ? -dist : dist;
+    }
+  return inf;
+}
+
+template <int D>
+void surface_points_near(const Geometry& g, const Vec<D>& x, double within,
+                         std::vector<Vec<D>>& out) {
+  if (g.kind == Geometry::Kind::disk) {
+    Vec<D> c, r;
+    for (int d = 0; d < D; ++d)
+      c[d] = g.center[d], r[d] = x[d] - g.center[d];
+    const double len = r.norm();
+    if (len > 0.0 && g.radius - len <= within) out.push_back(c + (g.radius / len) * r);
+    return;
+  }
+  if (g.kind == Geometry::Kind::box) {
+    for (int d = 0; d < D; ++d)
+      for (int side = 0; side < 2; ++side) {
+        const double face = side ? g.max[d] : g.min[d];
+        if (std::abs(x[d] - face) > within) continue;
+        Vec<D> q = x;
+        q[d] = face;
+        out.push_back(q);
+      }
+    return;
+  }
+  if constexpr (D == 2)
+    if (g.kind == Geometry::Kind::polygon) {
+      const auto& v = g.vertices;
+      const std::size_t first = out.size();
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        const Vec<2> a(v[i][0], v[i][1]), b(v[(i + 1) % v.size()][0], v[(i + 1) % v.size()][1]);
+        const Vec<2> e = b - a;
+        const double t = std::clamp((x - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+        const Vec<2> q = a + t * e;
+        if ((q - x).norm() > within) continue;
+        // A vertex nearest to both its edges is one point.
+        bool again = false;
+        for (std::size_t k = first; k < out.size(); ++k)
+          again = again || (out[k] - q).norm() <= 1e-12 * (1.0 + q.norm());
+        if (!again) out.push_back(q);
+      }
+    }
+}
+
+template double signed_distance<2>(const Geometry&, const Vec<2>&, Vec<2>&);
+template double signed_distance<3>(const Geometry&, const Vec<3>&, Vec<3>&);
+template void surface_points_near<2>(const Geometry&, const Vec<2>&, double, std::vector<Vec<2>>&);
+template void surface_points_near<3>(const Geometry&, const Vec<3>&, double, std::vector<Vec<3>>&);
+
 template Vec<2> surface_normal<2>(const Geometry&, const Vec<2>&, bool*);
 template Vec<3> surface_normal<3>(const Geometry&, const Vec<3>&, bool*);
 

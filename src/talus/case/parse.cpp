@@ -277,7 +277,31 @@ void read_contact(TableReader& root, Case& c) {
       if (std::minmax(q.a, q.b) == std::minmax(first, second))
         r.fail("bodies", fmt::format("the pair '{}'-'{}' already has a [[contact]] entry",
                                      body_names[first], body_names[second]));
-    c.contact.pairs.push_back(ContactPair{first, second, mu});
+    const bool surface = r.choice("law", {"nodes", "surface"}, "nodes") == "surface";
+    if (surface) { // a deformable body of one exact shape against a rigid body of one
+      const int dim = c.simulation.dimension;
+      const BodySpec& A = c.bodies[first];
+      const BodySpec& B = c.bodies[second];
+      if (A.rigid == B.rigid)
+        r.fail("law", fmt::format("\"surface\" needs one rigid and one deformable body; '{}' and "
+                                  "'{}' are both {}",
+                                  A.name, B.name, A.rigid ? "rigid" : "deformable"));
+      const BodySpec& soft = A.rigid ? B : A;
+      if (std::holds_alternative<Fluid>(c.materials[soft.material].model))
+        r.fail("law", fmt::format("\"surface\" needs a solid body: '{}' is a fluid, whose "
+                                  "particles keep no surface",
+                                  soft.name));
+      for (const BodySpec* body : {&A, &B})
+        if (body->geometry.size() != 1 || !has_exact_surface(body->geometry[0], dim))
+          r.fail("law", fmt::format("\"surface\" needs each body to be one box, disk or polygon "
+                                    "(2D) or one box or sphere (3D); '{}' is {}",
+                                    body->name,
+                                    body->geometry.size() != 1 ? "a union of shapes"
+                                                               : "another kind of shape"));
+      if (A.fill_around || B.fill_around)
+        r.fail("law", "\"surface\" does not take a body filled around the others");
+    }
+    c.contact.pairs.push_back(ContactPair{first, second, mu, surface});
   });
 }
 

@@ -33,6 +33,10 @@ template <int D>
 void Distributed<D>::init() {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
+  // The surface points' Gauss-Seidel sweep runs in one order over the whole body.
+  if (size_ > 1 && !sim_.setup().surface_pairs.empty())
+    throw DecompositionError("[[contact]] law = \"surface\" runs on one process for now: run "
+                             "this case without mpirun (threads share its work)");
   const Grid<D>& G = sim_.grid();
   for (int d = 1; d < D; ++d)
     cells_per_column_ *= G.cells[d];

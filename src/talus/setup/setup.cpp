@@ -57,8 +57,16 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const std::vector<double
     s.pair_interface[a * B + b] = s.pair_interface[b * B + a] = f;
     s.pair_friction[a * B + b] = s.pair_friction[b * B + a] = c.interfaces[f].friction.initial;
   }
-  for (const ContactPair& pair : c.contact.pairs)
+  s.surface_rigid.assign(B, 0);
+  for (const ContactPair& pair : c.contact.pairs) {
     s.pair_friction[pair.a * B + pair.b] = s.pair_friction[pair.b * B + pair.a] = pair.friction;
+    if (!pair.surface) continue;
+    const bool a_rigid = c.bodies[pair.a].rigid;
+    const int soft = a_rigid ? pair.b : pair.a, rigid = a_rigid ? pair.a : pair.b;
+    s.surface_pairs.push_back(
+        {soft, rigid, c.bodies[soft].geometry[0], c.bodies[rigid].geometry[0]});
+    s.surface_rigid[rigid] = 1;
+  }
   // Each interface takes the next slot of each of its two bodies' fields.
   s.interface_slots.assign(B * F, -1);
   std::vector<int> slots(B, 0);

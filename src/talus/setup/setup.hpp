@@ -63,7 +63,15 @@ struct Setup {
   std::vector<double> pair_friction; // B x B: Coulomb coefficient of each pair
   std::vector<int> pair_interface;   // B x B: interface index or -1
   std::vector<int> interface_slots;  // B x F: the interface's slot in the body's field
-  GridConditions<D> conditions;      // velocity conditions of the faces and boxes
+  // [[contact]] law = "surface": each such pair (a deformable body and a rigid one, with their
+  // shapes), and per body whether it is a pair's rigid body (taken out of the node law for it).
+  struct SurfacePair {
+    int body = 0, rigid = 0;
+    Geometry shape, rigid_shape;
+  };
+  std::vector<SurfacePair> surface_pairs;
+  std::vector<char> surface_rigid;
+  GridConditions<D> conditions; // velocity conditions of the faces and boxes
   ContactLaw contact_law;
   Vec<D> gravity = Vec<D>::Zero();
   WaterSetup<D> water;
@@ -82,6 +90,12 @@ struct Setup {
 
   double friction(int a, int b) const { return pair_friction[a * num_bodies + b]; }
   int interface_of(int a, int b) const { return pair_interface[a * num_bodies + b]; }
+  // Whether the pair (a, b) meets at surface points (law = "surface"), not node by node.
+  bool surface(int a, int b) const {
+    for (const SurfacePair& p : surface_pairs)
+      if ((p.body == a && p.rigid == b) || (p.body == b && p.rigid == a)) return true;
+    return false;
+  }
   // Body `body`'s slot for interface f in its field's interface arrays.
   int slot(int body, int f) const { return interface_slots[body * num_interfaces + f]; }
 

@@ -176,21 +176,24 @@ void copy_body(const ContactNode<D>& from, int k, ContactNode<D>& to, int j) {
 }
 
 // Moves every rigid body of `node` but its heaviest (by nodal mass, the first of equals) to
-// `others` (with their field indices), keeping the order of the rest. A node with at most one
-// rigid body is left as it is.
+// `others` (with their field indices), keeping the order of the rest, and with them every rigid
+// body marked `apart` (a pair of law = "surface": it meets the other bodies in pairs). A node with
+// at most one rigid body, and none apart, is left as it is.
 template <int D>
 void split_rigid_others(ContactNode<D>& node, std::int64_t* local, ContactNode<D>& others,
-                        std::int64_t* others_local) {
-  int heaviest = -1, rigid = 0;
+                        std::int64_t* others_local, const std::vector<char>& apart) {
+  int heaviest = -1, rigid = 0, away = 0;
   for (int k = 0; k < node.n; ++k)
-    if (node.rigid[k]) {
+    if (node.rigid[k] && apart[node.body[k]]) {
+      ++away;
+    } else if (node.rigid[k]) {
       ++rigid;
       if (heaviest < 0 || node.m[k] > node.m[heaviest]) heaviest = k;
     }
-  if (rigid < 2) return;
+  if (rigid < 2 && away == 0) return;
   int kept = 0;
   for (int k = 0; k < node.n; ++k) {
-    if (node.rigid[k] && k != heaviest) {
+    if (node.rigid[k] && (apart[node.body[k]] || (rigid >= 2 && k != heaviest))) {
       others_local[others.n] = local[k];
       copy_body(node, k, others, others.n++);
       continue;
@@ -246,16 +249,25 @@ Vec<D> Simulation<D>::geometric_normal(int b, const Index<D>& g, const Vec<D>& f
   return std::isinf(n[0]) ? surface_normal<D>(*body.normal_geometry, from) : n;
 }
 
-// Reads every field's m, grad m, mx, the bond capacities and the array `velocity`; writes
-// `velocity` where contact corrects it, and in the momentum pass the contact record (forces, work,
-// contact nodes, interface totals) and the interfaces' slip rates. Nodes are visited row by row
-// along x; the record sums per row and then in row order (thread-count independent).
+// Node by node, then the pairs of law = "surface" at their surface points (surface_contact.cpp).
 template <int D>
 void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
                                   ContactPass pass) {
+  if (num_bodies() < 2) return;
+  apply_node_contact(velocity, dt, pass);
+  apply_surface_contact(velocity, dt, pass);
+}
+
+// Every pair but those of law = "surface": reads every field's m, grad m, mx, the bond capacities
+// and the array `velocity`; writes `velocity` where contact corrects it, and in the momentum pass
+// the contact record (forces, work, contact nodes, interface totals) and the interfaces' slip
+// rates. Nodes are visited row by row along x; the record sums per row and then in row order
+// (thread-count independent).
+template <int D>
+void Simulation<D>::apply_node_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
+                                       ContactPass pass) {
   const bool record = pass == ContactPass::momentum;
   const int B = num_bodies();
-  if (B < 2) return;
   Index<D> lo, hi;
   std::vector<std::int64_t> pairs;
   const bool any = shared_nodes<D>(fields_, lo, hi, pairs);
@@ -309,7 +321,7 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         // A node with two or more rigid bodies: the deformable bodies there meet the heaviest in
         // the node's own law and each other rigid body in a pair of its own, after it (below).
         rigid_others.n = 0;
-        split_rigid_others(node, local, rigid_others, rigid_local);
+        split_rigid_others(node, local, rigid_others, rigid_local, setup_.surface_rigid);
         const bool rigid_here =
             std::any_of(node.rigid, node.rigid + node.n, [](bool rigid) { return rigid; });
         if (node.n >= 3 && setup_.pairwise_nodes && !rigid_here) {
@@ -337,6 +349,10 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
         for (int j = 0; j < rigid_others.n; ++j)
           for (int k = 0; k < node.n; ++k) {
             if (node.rigid[k]) continue;
+            // A pair meeting at surface points (law = "surface") is apply_surface_contact's.
+            if (setup_.surface_rigid[rigid_others.body[j]] &&
+                setup_.surface(node.body[k], rigid_others.body[j]))
+              continue;
             ContactNode<D> pair;
             std::int64_t pair_local[2] = {local[k], rigid_local[j]};
             pair.n = 2;

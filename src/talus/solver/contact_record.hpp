@@ -120,6 +120,8 @@ struct ContactRecord {
     force_rows_[r * static_cast<std::int64_t>(pairs_.size()) + (at - pairs_.begin())] += f;
   }
   void add_work(std::int64_t r, int k, double w) { work_rows_[r * B + k] += w; }
+  // A force on body k from `other` outside the node rows (after end(): law = "surface").
+  void add_pair_force(int k, int other, const Vec<D>& f) { force_[k * B + other] += f; }
   void add_interface(std::int64_t r, int f, double cohesive, double frictional, double normal) {
     InterfaceForce& row = interface_rows_[r * interface_force.size() + f];
     row.cohesive += cohesive, row.frictional += frictional, row.normal += normal;

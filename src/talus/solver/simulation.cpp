@@ -61,6 +61,7 @@ Simulation<D>::Simulation(const Case& c, Seeded<D> seeded) : case_data_(c) {
     if (setup_.bodies[b].normal_geometry)
       normal_cache_[b].resize(static_cast<std::size_t>(grid_.nodes[0]));
   record_.resize(B, setup_.interfaces.size());
+  build_surface_points();
   internal_work_.assign(B, 0.0);
   // Slab width: GIMP writes nodes [cell-1, cell+2], so slabs of 4 cells keep two slabs of one
   // colour at least one slab apart.

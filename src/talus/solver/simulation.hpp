@@ -181,6 +181,14 @@ public:
   // Contact on one velocity array of every body field (v, v_new, v_remap or xpic_w); the
   // momentum pass keeps its forces, work, contact nodes and the interfaces' slip rates.
   void apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, ContactPass pass);
+  // Its two parts: node by node (contact_pass.cpp), and at surface points for the pairs of
+  // law = "surface" (surface_contact.cpp), after it.
+  void apply_node_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt, ContactPass pass);
+  void apply_surface_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
+                             ContactPass pass);
+  // The deformable bodies' surface points of law = "surface", from the particles' first
+  // positions (constructor).
+  void build_surface_points();
   // A node three or more deformable bodies share, resolved pair by pair with resolve_node
   // (contact.node_law = "pairs"); in the momentum pass each body's work is its whole change's.
   void resolve_pairwise(ContactNode<D>& node, const std::int64_t* local, const Index<D>& g,
@@ -264,6 +272,28 @@ private:
   StepCheck check_; // the particle check riding on the transfers (solver/step_scratch.hpp)
   bool settling_ = false;
   std::vector<std::uint32_t> index_of_id_;
+  // law = "surface": each surface point (its particle's id, body and offset r_0 from the
+  // particle's first position), and the step's constraints: per point near a rigid shape its
+  // pair, gap, normal, 1 / effective mass and its nodes' weights a_I (surface_contact.cpp).
+  struct SurfacePoint {
+    std::uint32_t id;
+    int body;
+    Vec<D> offset;
+  };
+  struct SurfaceRow {
+    int pair = 0;
+    double gap = 0.0, inverse_mass = 0.0;
+    Vec<D> normal = Vec<D>::Zero();
+    std::size_t first = 0, count = 0;
+  };
+  struct SurfaceNode {
+    std::int64_t node;
+    double a;
+  };
+  std::vector<SurfacePoint> surface_points_;
+  std::vector<SurfaceRow> surface_rows_;
+  std::vector<SurfaceNode> surface_nodes_;
+  std::int64_t surface_step_ = -1;      // the step surface_rows_ were found in
   std::vector<std::size_t> body_count_; // per body: the whole case's particles
   PhaseTimes phase_times_;
   std::vector<std::string> warnings_;

@@ -113,5 +113,65 @@ TEST(SurfaceNormal, TheNearestFacesOutwardNormal) {
   EXPECT_NEAR(r[1], 0.8, 1e-12);
 }
 
+// The exact shapes of a surface contact: the signed distance (negative inside) with the outward
+// normal at the nearest surface point, and the surface points near a point inside.
+TEST(SignedDistance, BoxPolygonDiskAndSphere) {
+  Geometry box;
+  box.kind = Geometry::Kind::box, box.min = {0, 0, 0}, box.max = {2, 1, 0};
+  Vec<2> n;
+  EXPECT_NEAR(signed_distance<2>(box, Vec<2>(1.0, 1.3), n), 0.3, 1e-12);
+  EXPECT_EQ(n, Vec<2>(0, 1));
+  EXPECT_NEAR(signed_distance<2>(box, Vec<2>(1.9, 0.5), n), -0.1, 1e-12); // nearest the right face
+  EXPECT_EQ(n, Vec<2>(1, 0));
+  EXPECT_NEAR(signed_distance<2>(box, Vec<2>(2.3, 1.4), n), 0.5, 1e-12); // beyond a corner
+  EXPECT_NEAR(n[0], 0.6, 1e-12);
+  EXPECT_NEAR(n[1], 0.8, 1e-12);
+  Geometry tri; // clockwise this time: the normal is outward whatever the order
+  tri.kind = Geometry::Kind::polygon, tri.vertices = {{0, 0}, {0, 1}, {1, 0}};
+  EXPECT_NEAR(signed_distance<2>(tri, Vec<2>(0.4, 0.45), n), -0.15 / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(n[0], std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(n[1], std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(signed_distance<2>(tri, Vec<2>(0.5, -0.2), n), 0.2, 1e-12);
+  EXPECT_NEAR(n[1], -1.0, 1e-12);
+  Geometry ball;
+  ball.kind = Geometry::Kind::disk, ball.center = {1, 1, 1}, ball.radius = 0.5;
+  Vec<3> m;
+  EXPECT_NEAR(signed_distance<3>(ball, Vec<3>(1.0, 1.3, 1.4), m), 0.0, 1e-12);
+  EXPECT_NEAR(m[1], 0.6, 1e-12);
+  EXPECT_NEAR(signed_distance<3>(ball, Vec<3>(1.0, 1.0, 1.2), m), -0.3, 1e-12);
+  Geometry prism;
+  prism.kind = Geometry::Kind::prism;
+  EXPECT_FALSE(has_exact_surface(prism, 3));
+  EXPECT_TRUE(has_exact_surface(tri, 2));
+}
+
+TEST(SurfacePointsNear, OnePerFaceOrEdgeWithinReach) {
+  Geometry box;
+  box.kind = Geometry::Kind::box, box.min = {0, 0, 0}, box.max = {2, 1, 0};
+  std::vector<Vec<2>> q;
+  surface_points_near<2>(box, Vec<2>(0.05, 0.05), 0.075, q); // a corner's particle: two points
+  ASSERT_EQ(q.size(), 2u);
+  EXPECT_EQ(q[0], Vec<2>(0.0, 0.05));
+  EXPECT_EQ(q[1], Vec<2>(0.05, 0.0));
+  q.clear();
+  surface_points_near<2>(box, Vec<2>(1.0, 0.5), 0.075, q); // inside: none
+  EXPECT_TRUE(q.empty());
+  Geometry tri;
+  tri.kind = Geometry::Kind::polygon, tri.vertices = {{0, 0}, {1, 0}, {0, 1}};
+  surface_points_near<2>(tri, Vec<2>(0.02, 0.5), 0.05, q); // the left edge only
+  ASSERT_EQ(q.size(), 1u);
+  EXPECT_NEAR(q[0][0], 0.0, 1e-15);
+  EXPECT_NEAR(q[0][1], 0.5, 1e-15);
+  q.clear();
+  surface_points_near<2>(tri, Vec<2>(0.9, 0.02), 0.2, q); // near a vertex: its two edges
+  EXPECT_EQ(q.size(), 2u);
+  Geometry disk;
+  disk.kind = Geometry::Kind::disk, disk.center = {1, 1, 0}, disk.radius = 0.5;
+  q.clear();
+  surface_points_near<2>(disk, Vec<2>(1.0, 0.55), 0.1, q); // its point straight below
+  ASSERT_EQ(q.size(), 1u);
+  EXPECT_NEAR(q[0][1], 0.5, 1e-15);
+}
+
 } // namespace
 } // namespace talus

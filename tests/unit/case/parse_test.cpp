@@ -238,6 +238,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"node_law_unknown", "[output]",
                 "[[contact]]\nfriction = 0.2\nnode_law = \"master\"\n[output]",
                 "inline.toml:40: contact[0].node_law"},
+        BadCase{"surface_law_unknown", "[output]",
+                "[[contact]]\nbodies = [\"block\", \"ball\"]\nfriction = 0.2\nlaw = \"points\"\n"
+                "[output]",
+                "contact[0].law: 'points' is not one of: nodes, surface"},
+        BadCase{"surface_law_two_deformable", "[output]",
+                "[[contact]]\nbodies = [\"block\", \"ball\"]\nfriction = 0.2\nlaw = \"surface\"\n"
+                "[output]",
+                "contact[0].law: \"surface\" needs one rigid and one deformable body; 'block' and "
+                "'ball' are both deformable"},
         BadCase{"orphan_fraction_on_a_pair", "[output]",
                 "[[contact]]\nbodies = [\"block\", \"ball\"]\nfriction = 0.2\n"
                 "orphan_fraction = 0.2\n[output]",

@@ -1,0 +1,159 @@
+// Contact at surface points ([[contact]] law = "surface", docs/formulation.md): a deformable body
+// against a rigid body's exact shape, at points of the deformable body's own surface that move
+// with its material, instead of node by node. Each point is a particle's: x_c = x_p + F_p r_0,
+// r_0 the offset from the particle's first position to its body's surface. Its velocity is read
+// from the body's nodes through a_I = N_I(x_p) + grad N_I(x_p) . (x_c - x_p) (exact for a linear
+// field), and the constraints are solved by projected Gauss-Seidel on the body's nodal velocities.
+#include "talus/case/geometry.hpp"
+#include "talus/solver/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace talus {
+
+// Reads the particles' first positions and the deformable bodies' shapes; writes the surface
+// points: every particle within 0.75 of its spacing of its body's surface gets the offsets to
+// the surface points that near (one on a disk, two at a box's corner).
+template <int D>
+void Simulation<D>::build_surface_points() {
+  surface_points_.clear();
+  const auto& P = particles_;
+  std::vector<Vec<D>> near;
+  for (const auto& pair : setup_.surface_pairs) {
+    if (std::any_of(surface_points_.begin(), surface_points_.end(),
+                    [&](const SurfacePoint& s) { return s.body == pair.body; }))
+      continue; // one set per body, whatever rigid bodies it meets
+    const double within = 0.75 * setup_.bodies[pair.body].particle_height;
+    for (std::size_t p = P.body_begin[pair.body]; p < P.body_begin[pair.body + 1]; ++p) {
+      near.clear();
+      surface_points_near<D>(pair.shape, P.x0[p], within, near);
+      for (const Vec<D>& q : near)
+        surface_points_.push_back({P.id[p], pair.body, Vec<D>(q - P.x0[p])});
+    }
+  }
+  // In id order: the same points in the same order on any process count and after a restart.
+  std::stable_sort(surface_points_.begin(), surface_points_.end(),
+                   [](const SurfacePoint& a, const SurfacePoint& b) { return a.id < b.id; });
+}
+
+// Reads the particles (positions, F, shape weights), the deformable bodies' masses and
+// `velocity`; writes `velocity` of each surface pair's deformable body and, in the momentum pass,
+// the pair's contact force and the body's contact work. The step's first pass finds the points
+// within half a cell of the rigid shape; its later passes (strain, momentum, carried) reuse them.
+template <int D>
+void Simulation<D>::apply_surface_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
+                                          ContactPass pass) {
+  if (setup_.surface_pairs.empty()) return;
+  const auto& P = particles_;
+  const bool record = pass == ContactPass::momentum;
+  if (surface_step_ != steps_) { // the step's first pass finds the points near a rigid shape
+    surface_step_ = steps_;
+    shape_.require(steps_, P.size());
+    surface_rows_.clear();
+    surface_nodes_.clear();
+    for (std::size_t k = 0; k < setup_.surface_pairs.size(); ++k) {
+      const auto& pair = setup_.surface_pairs[k];
+      const BodyField<D>& N = fields_[pair.body];
+      const Vec<D> shift = setup_.bodies[pair.rigid].rigid_velocity * time_;
+      const double reach = 0.5 * grid_.h;
+      for (const SurfacePoint& s : surface_points_) {
+        if (s.body != pair.body) continue;
+        const std::size_t p = index_of_id_[s.id];
+        if (P.field[p] != pair.body) continue; // an orphan moves in another body's field
+        const Vec<D> r = P.F[p] * s.offset;
+        SurfaceRow row;
+        row.gap = signed_distance<D>(pair.rigid_shape, Vec<D>(P.x[p] + r - shift), row.normal);
+        if (row.gap >= reach) continue;
+        row.pair = static_cast<int>(k);
+        row.first = surface_nodes_.size();
+        for_each_node(N.box, shape_.weights[p], [&](std::int64_t I, double N_I, const Vec<D>& dN) {
+          if (N.m[I] <= 0.0) return;
+          const double a = N_I + dN.dot(r);
+          surface_nodes_.push_back({I, a});
+          row.inverse_mass += a * a / N.m[I];
+        });
+        row.count = surface_nodes_.size() - row.first;
+        if (row.inverse_mass > 0.0)
+          surface_rows_.push_back(row);
+        else
+          surface_nodes_.resize(row.first);
+      }
+    }
+  }
+  if (surface_rows_.empty()) return;
+  // The nodes the points move, with their velocities before (the work and force records).
+  std::vector<std::pair<std::int64_t, Vec<D>>> before;
+  auto key = [&](const SurfaceRow& row) { return setup_.surface_pairs[row.pair].body; };
+  if (record)
+    for (const SurfaceRow& row : surface_rows_)
+      for (std::size_t j = row.first; j < row.first + row.count; ++j)
+        before.push_back({surface_nodes_[j].node * num_bodies() + key(row), Vec<D>::Zero()});
+  std::sort(before.begin(), before.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  before.erase(std::unique(before.begin(), before.end(),
+                           [](const auto& a, const auto& b) { return a.first == b.first; }),
+               before.end());
+  for (auto& [k, v] : before)
+    v = (fields_[k % num_bodies()].*velocity)[k / num_bodies()];
+
+  // Projected Gauss-Seidel: each point's normal impulse lambda_n >= 0 keeps its approach to at
+  // most its gap over the step (u_n >= -g / dt; an overlap is pushed out at 0.2 |g| / dt), and
+  // its tangential impulse is bounded by mu lambda_n (Coulomb). An impulse J reaches node I as
+  // a_I J / m_I, so the body's momentum changes by J exactly (sum a_I = 1).
+  std::vector<Vec<D>> impulse(surface_rows_.size(), Vec<D>::Zero());
+  constexpr int max_sweeps = 50;
+  constexpr double push_out = 0.2;
+  for (int sweep = 0; sweep < max_sweeps; ++sweep) {
+    double change = 0.0, largest = 0.0;
+    for (std::size_t c = 0; c < surface_rows_.size(); ++c) {
+      const SurfaceRow& row = surface_rows_[c];
+      const auto& pair = setup_.surface_pairs[row.pair];
+      BodyField<D>& N = fields_[pair.body];
+      std::vector<Vec<D>>& v = N.*velocity;
+      Vec<D> u = -setup_.bodies[pair.rigid].rigid_velocity;
+      for (std::size_t j = row.first; j < row.first + row.count; ++j)
+        u += surface_nodes_[j].a * v[surface_nodes_[j].node];
+      const Vec<D>& n = row.normal;
+      const double bias = row.gap > 0.0 ? row.gap / dt : push_out * row.gap / dt;
+      const Vec<D> old = impulse[c];
+      const double old_n = old.dot(n);
+      const double new_n = std::max(0.0, old_n - (u.dot(n) + bias) / row.inverse_mass);
+      Vec<D> old_t = old - old_n * n;
+      Vec<D> new_t = old_t - (u - u.dot(n) * n) / row.inverse_mass;
+      const double mu =
+          settling_ && setup_.hold_contacts ? inf : setup_.friction(pair.body, pair.rigid);
+      const double limit = mu * new_n;
+      if (const double t = new_t.norm(); t > limit) new_t *= limit / t;
+      impulse[c] = new_n * n + new_t;
+      const Vec<D> dJ = impulse[c] - old;
+      for (std::size_t j = row.first; j < row.first + row.count; ++j)
+        v[surface_nodes_[j].node] += (surface_nodes_[j].a / N.m[surface_nodes_[j].node]) * dJ;
+      change = std::max(change, dJ.norm());
+      largest = std::max(largest, impulse[c].norm());
+    }
+    if (change <= 1e-12 * largest) break;
+  }
+  if (!record) return;
+  // The pair's force on the body and the contact's work on it, m dv . (v^n + v^{n+1}) / 2.
+  for (const auto& [k, v_before] : before) {
+    const int b = static_cast<int>(k % num_bodies());
+    const std::int64_t I = k / num_bodies();
+    const BodyField<D>& N = fields_[b];
+    const Vec<D>& v = (N.*velocity)[I];
+    record_.work[b] += N.m[I] * (v - v_before).dot(0.5 * (N.v[I] + v));
+  }
+  for (std::size_t c = 0; c < surface_rows_.size(); ++c) {
+    const auto& pair = setup_.surface_pairs[surface_rows_[c].pair];
+    record_.add_pair_force(pair.body, pair.rigid, impulse[c] / dt);
+  }
+}
+
+#define TALUS_INSTANTIATE(D)                                                                       \
+  template void Simulation<D>::build_surface_points();                                             \
+  template void Simulation<D>::apply_surface_contact(std::vector<Vec<D>> BodyField<D>::*, double,  \
+                                                     ContactPass);
+TALUS_INSTANTIATE(2)
+TALUS_INSTANTIATE(3)
+
+} // namespace talus
