@@ -44,9 +44,9 @@ def frictions(theta):
 # Rolling cells that miss 2 % under the surface-point contact (`talus verify --quick --cases
 # general_rolling`; docs/verification.md, "General parameters: rolling").
 BOUNCE = ("the elastic disk bounces at 60 deg: its undamped vertical ringing from the unstressed "
-          "start lifts it off once v^2 / R exceeds g cos, and each landing rebounds (+1.6 to "
-          "+4.2 % as the step sequence changes); docs/verification.md, "
-          "\\\"General parameters: rolling\\\"")
+          "start lifts it off once v^2 / R exceeds g cos, and each landing rebounds; the figure "
+          "moves from +1.0 to +4.2 % with the step sequence (output times, CFL, push-out); "
+          "docs/verification.md, \\\"General parameters: rolling\\\"")
 GAIN = ("the sticking contact gains kinetic energy on finer grids (about 5 % of it by 1 s at 20 "
         "cells per radius, with the gravity and contact work summed): the rolling cells at 20 "
         "cells per radius run 0.7 to 4 % ahead; docs/verification.md, "

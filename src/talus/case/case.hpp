@@ -92,10 +92,7 @@ struct BodySpec {
 struct ContactPair {
   int a = 0, b = 0;
   double friction = 0.0;
-  // law = "surface": a deformable body against a rigid one at the deformable body's surface
-  // points, against the rigid body's exact shape, instead of node by node (docs/formulation.md,
-  // "Contact at surface points").
-  bool surface = false;
+  bool surface = false; // law = "surface": at the deformable body's surface points (formulation.md)
 };
 
 // How an interface property degrades with slip s from its initial value v0 to its residual vr

@@ -30,18 +30,16 @@ std::array<double, 2> terrain_column(const Geometry& g, double x, double y);
 template <int D>
 Vec<D> surface_normal(const Geometry& g, const Vec<D>& x, bool* edge = nullptr);
 
-// Where a surface contact (`[[contact]] law = "surface"`) can read a shape exactly: boxes,
-// polygons and disks in 2D, boxes and spheres in 3D.
+// The shapes law = "surface" reads exactly: boxes, polygons and disks (2D); boxes and spheres (3D).
 bool has_exact_surface(const Geometry& g, int dimension);
 
-// The signed distance from x to the shape's surface (negative inside) and the outward unit
-// normal of the surface at its point nearest x (for a shape has_exact_surface accepts).
+// The signed distance to the surface (negative inside), and the outward normal at its nearest
+// point.
 template <int D>
 double signed_distance(const Geometry& g, const Vec<D>& x, Vec<D>& normal);
 
-// The points of the shape's surface within `within` of x, a point inside it: on each box face
-// or polygon edge that near, its point nearest x (a corner's particle gets one on each side), or
-// the disk's or sphere's point nearest x. Appended to `out`.
+// Appends, for x inside, the nearest point of each box face or polygon edge (or the disk's) within
+// reach.
 template <int D>
 void surface_points_near(const Geometry& g, const Vec<D>& x, double within,
                          std::vector<Vec<D>>& out);

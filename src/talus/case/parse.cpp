@@ -299,7 +299,8 @@ void read_contact(TableReader& root, Case& c) {
                                     body->geometry.size() != 1 ? "a union of shapes"
                                                                : "another kind of shape"));
       if (A.fill_around || B.fill_around)
-        r.fail("law", "\"surface\" does not take a body filled around the others");
+        r.fail("law", fmt::format("\"surface\" does not take '{}', a body filled around the others",
+                                  A.fill_around ? A.name : B.name));
     }
     c.contact.pairs.push_back(ContactPair{first, second, mu, surface});
   });
@@ -311,6 +312,11 @@ void read_interfaces(TableReader& root, Case& c) {
   for_each_entry(root, "interface", [&](TableReader& r, std::size_t) {
     InterfaceSpec f;
     std::tie(f.a, f.b) = read_body_pair(r, body_names);
+    for (const ContactPair& q : c.contact.pairs)
+      if (q.surface && std::minmax(q.a, q.b) == std::minmax(f.a, f.b))
+        r.fail("bodies", fmt::format("the pair '{}'-'{}' meets at surface points ([[contact]] law "
+                                     "= \"surface\"), which carry no interface",
+                                     body_names[f.a], body_names[f.b]));
     for (const InterfaceSpec& q : c.interfaces)
       if (std::minmax(q.a, q.b) == std::minmax(f.a, f.b))
         r.fail("bodies", fmt::format("the pair '{}'-'{}' already has an [[interface]] entry",

@@ -63,8 +63,8 @@ struct Setup {
   std::vector<double> pair_friction; // B x B: Coulomb coefficient of each pair
   std::vector<int> pair_interface;   // B x B: interface index or -1
   std::vector<int> interface_slots;  // B x F: the interface's slot in the body's field
-  // [[contact]] law = "surface": each such pair (a deformable body and a rigid one, with their
-  // shapes), and per body whether it is a pair's rigid body (taken out of the node law for it).
+  // law = "surface": each pair (deformable body, rigid body, their shapes); per body, a pair's
+  // rigid one.
   struct SurfacePair {
     int body = 0, rigid = 0;
     Geometry shape, rigid_shape;

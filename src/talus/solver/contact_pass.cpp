@@ -175,16 +175,14 @@ void copy_body(const ContactNode<D>& from, int k, ContactNode<D>& to, int j) {
   to.rank[j] = from.rank[k], to.surface_normal[j] = from.surface_normal[k];
 }
 
-// Moves every rigid body of `node` but its heaviest (by nodal mass, the first of equals) to
-// `others` (with their field indices), keeping the order of the rest, and with them every rigid
-// body marked `apart` (a pair of law = "surface": it meets the other bodies in pairs). A node with
-// at most one rigid body, and none apart, is left as it is.
+// Moves to `others` every rigid body of `node` but its heaviest (by nodal mass, the first of
+// equals), and every rigid body apart[k] (its surface pair's partner is here), keeping the order.
 template <int D>
 void split_rigid_others(ContactNode<D>& node, std::int64_t* local, ContactNode<D>& others,
-                        std::int64_t* others_local, const std::vector<char>& apart) {
+                        std::int64_t* others_local, const bool* apart) {
   int heaviest = -1, rigid = 0, away = 0;
   for (int k = 0; k < node.n; ++k)
-    if (node.rigid[k] && apart[node.body[k]]) {
+    if (node.rigid[k] && apart[k]) {
       ++away;
     } else if (node.rigid[k]) {
       ++rigid;
@@ -193,7 +191,7 @@ void split_rigid_others(ContactNode<D>& node, std::int64_t* local, ContactNode<D
   if (rigid < 2 && away == 0) return;
   int kept = 0;
   for (int k = 0; k < node.n; ++k) {
-    if (node.rigid[k] && (apart[node.body[k]] || (rigid >= 2 && k != heaviest))) {
+    if (node.rigid[k] && (apart[k] || (rigid >= 2 && k != heaviest))) {
       others_local[others.n] = local[k];
       copy_body(node, k, others, others.n++);
       continue;
@@ -258,11 +256,8 @@ void Simulation<D>::apply_contact(std::vector<Vec<D>> BodyField<D>::*velocity, d
   apply_surface_contact(velocity, dt, pass);
 }
 
-// Every pair but those of law = "surface": reads every field's m, grad m, mx, the bond capacities
-// and the array `velocity`; writes `velocity` where contact corrects it, and in the momentum pass
-// the contact record (forces, work, contact nodes, interface totals) and the interfaces' slip
-// rates. Nodes are visited row by row along x; the record sums per row and then in row order
-// (thread-count independent).
+// Every pair but those of law = "surface". Reads m, grad m, mx, bond capacities and `velocity`;
+// writes `velocity` and the momentum pass's record and slip rates, row by row along x.
 template <int D>
 void Simulation<D>::apply_node_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
                                        ContactPass pass) {
@@ -321,7 +316,12 @@ void Simulation<D>::apply_node_contact(std::vector<Vec<D>> BodyField<D>::*veloci
         // A node with two or more rigid bodies: the deformable bodies there meet the heaviest in
         // the node's own law and each other rigid body in a pair of its own, after it (below).
         rigid_others.n = 0;
-        split_rigid_others(node, local, rigid_others, rigid_local, setup_.surface_rigid);
+        // A rigid body whose surface pair's deformable body is here leaves the node's own law.
+        bool apart[max_bodies_at_node]{};
+        for (int k = 0; k < node.n; ++k)
+          for (int j = 0; j < node.n && node.rigid[k] && setup_.surface_rigid[node.body[k]]; ++j)
+            apart[k] = apart[k] || (!node.rigid[j] && setup_.surface(node.body[j], node.body[k]));
+        split_rigid_others(node, local, rigid_others, rigid_local, apart);
         const bool rigid_here =
             std::any_of(node.rigid, node.rigid + node.n, [](bool rigid) { return rigid; });
         if (node.n >= 3 && setup_.pairwise_nodes && !rigid_here) {

@@ -272,9 +272,7 @@ private:
   StepCheck check_; // the particle check riding on the transfers (solver/step_scratch.hpp)
   bool settling_ = false;
   std::vector<std::uint32_t> index_of_id_;
-  // law = "surface": each surface point (its particle's id, body and offset r_0 from the
-  // particle's first position), and the step's constraints: per point near a rigid shape its
-  // pair, gap, normal, 1 / effective mass and its nodes' weights a_I (surface_contact.cpp).
+  // law = "surface" (surface_contact.cpp): the points (id, body, r_0) and the step's constraints.
   struct SurfacePoint {
     std::uint32_t id;
     int body;
@@ -290,7 +288,12 @@ private:
     std::int64_t node;
     double a;
   };
+  struct SurfaceAnchor { // a rigid body's particle and its seeded position: the shape's shift
+    std::uint32_t id;
+    Vec<D> x;
+  };
   std::vector<SurfacePoint> surface_points_;
+  std::vector<SurfaceAnchor> surface_anchors_; // per surface pair
   std::vector<SurfaceRow> surface_rows_;
   std::vector<SurfaceNode> surface_nodes_;
   std::int64_t surface_step_ = -1;      // the step surface_rows_ were found in

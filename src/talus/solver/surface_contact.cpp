@@ -1,9 +1,4 @@
-// Contact at surface points ([[contact]] law = "surface", docs/formulation.md): a deformable body
-// against a rigid body's exact shape, at points of the deformable body's own surface that move
-// with its material, instead of node by node. Each point is a particle's: x_c = x_p + F_p r_0,
-// r_0 the offset from the particle's first position to its body's surface. Its velocity is read
-// from the body's nodes through a_I = N_I(x_p) + grad N_I(x_p) . (x_c - x_p) (exact for a linear
-// field), and the constraints are solved by projected Gauss-Seidel on the body's nodal velocities.
+// Contact at surface points ([[contact]] law = "surface"; docs/formulation.md has the equations).
 #include "talus/case/geometry.hpp"
 #include "talus/solver/simulation.hpp"
 
@@ -12,19 +7,21 @@
 
 namespace talus {
 
-// Reads the particles' first positions and the deformable bodies' shapes; writes the surface
-// points: every particle within 0.75 of its spacing of its body's surface gets the offsets to
-// the surface points that near (one on a disk, two at a box's corner).
+// From the seeded positions: each particle within a spacing of its body's surface gets r_0 to the
+// surface points that near (the lattice's outer row, so every face has points); each pair's anchor.
 template <int D>
 void Simulation<D>::build_surface_points() {
   surface_points_.clear();
+  surface_anchors_.clear();
   const auto& P = particles_;
   std::vector<Vec<D>> near;
   for (const auto& pair : setup_.surface_pairs) {
+    const std::size_t first = P.body_begin[pair.rigid];
+    surface_anchors_.push_back({P.id[first], P.x[first]});
     if (std::any_of(surface_points_.begin(), surface_points_.end(),
                     [&](const SurfacePoint& s) { return s.body == pair.body; }))
       continue; // one set per body, whatever rigid bodies it meets
-    const double within = 0.75 * setup_.bodies[pair.body].particle_height;
+    const double within = setup_.bodies[pair.body].particle_height;
     for (std::size_t p = P.body_begin[pair.body]; p < P.body_begin[pair.body + 1]; ++p) {
       near.clear();
       surface_points_near<D>(pair.shape, P.x0[p], within, near);
@@ -32,15 +29,13 @@ void Simulation<D>::build_surface_points() {
         surface_points_.push_back({P.id[p], pair.body, Vec<D>(q - P.x0[p])});
     }
   }
-  // In id order: the same points in the same order on any process count and after a restart.
+  // In id order: the same points in the same order after a restart.
   std::stable_sort(surface_points_.begin(), surface_points_.end(),
                    [](const SurfacePoint& a, const SurfacePoint& b) { return a.id < b.id; });
 }
 
-// Reads the particles (positions, F, shape weights), the deformable bodies' masses and
-// `velocity`; writes `velocity` of each surface pair's deformable body and, in the momentum pass,
-// the pair's contact force and the body's contact work. The step's first pass finds the points
-// within half a cell of the rigid shape; its later passes (strain, momentum, carried) reuse them.
+// Reads positions, F, weights, masses and `velocity`; writes `velocity` (and the momentum pass's
+// force and work). The step's first pass finds the constraints; its later passes reuse them.
 template <int D>
 void Simulation<D>::apply_surface_contact(std::vector<Vec<D>> BodyField<D>::*velocity, double dt,
                                           ContactPass pass) {
@@ -55,7 +50,9 @@ void Simulation<D>::apply_surface_contact(std::vector<Vec<D>> BodyField<D>::*vel
     for (std::size_t k = 0; k < setup_.surface_pairs.size(); ++k) {
       const auto& pair = setup_.surface_pairs[k];
       const BodyField<D>& N = fields_[pair.body];
-      const Vec<D> shift = setup_.bodies[pair.rigid].rigid_velocity * time_;
+      // The rigid shape moved as its body did (settling included): x - x_seeded of its anchor.
+      const SurfaceAnchor& anchor = surface_anchors_[k];
+      const Vec<D> shift = P.x[index_of_id_[anchor.id]] - anchor.x;
       const double reach = 0.5 * grid_.h;
       for (const SurfacePoint& s : surface_points_) {
         if (s.body != pair.body) continue;
@@ -82,7 +79,7 @@ void Simulation<D>::apply_surface_contact(std::vector<Vec<D>> BodyField<D>::*vel
     }
   }
   if (surface_rows_.empty()) return;
-  // The nodes the points move, with their velocities before (the work and force records).
+  // The nodes the points move, with their velocities before (the work record).
   std::vector<std::pair<std::int64_t, Vec<D>>> before;
   auto key = [&](const SurfaceRow& row) { return setup_.surface_pairs[row.pair].body; };
   if (record)
@@ -97,10 +94,8 @@ void Simulation<D>::apply_surface_contact(std::vector<Vec<D>> BodyField<D>::*vel
   for (auto& [k, v] : before)
     v = (fields_[k % num_bodies()].*velocity)[k / num_bodies()];
 
-  // Projected Gauss-Seidel: each point's normal impulse lambda_n >= 0 keeps its approach to at
-  // most its gap over the step (u_n >= -g / dt; an overlap is pushed out at 0.2 |g| / dt), and
-  // its tangential impulse is bounded by mu lambda_n (Coulomb). An impulse J reaches node I as
-  // a_I J / m_I, so the body's momentum changes by J exactly (sum a_I = 1).
+  // Projected Gauss-Seidel: lambda_n >= 0 with u_n >= -g / dt, |lambda_t| <= mu lambda_n; J to node
+  // I as a_I J / m_I.
   std::vector<Vec<D>> impulse(surface_rows_.size(), Vec<D>::Zero());
   constexpr int max_sweeps = 50;
   constexpr double push_out = 0.2;

@@ -181,6 +181,31 @@ TEST(ParseCase, PolygonFromTheVaiontCsv) {
   EXPECT_FALSE(point_in_polygon(v, 3.9, 1.9));
 }
 
+// law = "surface" between the block and a rigid ball: read, and refused with an interface.
+TEST(ParseCase, ASurfacePairIsReadAndTakesNoInterface) {
+  std::string text = good;
+  text.replace(text.find("radius = 0.3 }"), 14, "radius = 0.3 }\nrigid = true");
+  text.replace(text.find("[output]"), 8,
+               "[[contact]]\nbodies = [\"block\", \"ball\"]\nfriction = 0.4\nlaw = \"surface\"\n"
+               "[output]");
+  const Case c = test::case_from(text);
+  ASSERT_EQ(c.contact.pairs.size(), 1u);
+  EXPECT_TRUE(c.contact.pairs[0].surface);
+  text.replace(text.find("[output]"), 8,
+               "[[interface]]\nbodies = [\"ball\", \"block\"]\n"
+               "friction = { initial = 0.5, residual = 0.5, slip = 1 }\n"
+               "cohesion = { initial = 0, residual = 0, slip = 1 }\n[output]");
+  try {
+    test::case_from(text);
+    FAIL() << "an interface on a surface pair was accepted";
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("interface[0].bodies: the pair 'ball'-'block' meets at "
+                                         "surface points"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 struct BadCase {
   std::string name;
   std::string from; // text in the good case to replace
