@@ -116,9 +116,10 @@ void Simulation<D>::apply_surface_contact(std::vector<Vec<D>> BodyField<D>::*vel
       const double new_n = std::max(0.0, old_n - (u.dot(n) + bias) / row.inverse_mass);
       Vec<D> old_t = old - old_n * n;
       Vec<D> new_t = old_t - (u - u.dot(n) * n) / row.inverse_mass;
+      // Held while settling with hold_contacts: unlimited friction, only where pressed (inf x 0).
       const double mu =
           settling_ && setup_.hold_contacts ? inf : setup_.friction(pair.body, pair.rigid);
-      const double limit = mu * new_n;
+      const double limit = new_n > 0.0 ? mu * new_n : 0.0;
       if (const double t = new_t.norm(); t > limit) new_t *= limit / t;
       impulse[c] = new_n * n + new_t;
       const Vec<D> dJ = impulse[c] - old;
