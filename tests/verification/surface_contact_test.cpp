@@ -24,22 +24,21 @@ std::string tilted(int dim, double theta_deg) {
                   : fmt::format("[{:.17g}, {:.17g}]", g * std::sin(t), -g * std::cos(t));
 }
 
-// A block 1 m long and 0.5 m high (1 m wide in 3D; 2000 kg/m^3, 100 MPa) on a rigid plane, with
-// gravity tilted by theta so that "down the plane" is +x; settled with its contact sticking, so
-// that the run starts from the equilibrium stress the rigid block's closed form assumes.
-std::string block_case(int dim, double theta, double mu) {
-  const bool three = dim == 3;
-  return fmt::format(
-      R"(
+// A deformable body ("body": its shape's lines) of 2000 kg/m^3 and 100 MPa on a rigid plane box
+// meeting it at surface points, gravity tilted by theta so that "down the plane" is +x.
+std::string on_plane(int dim, double theta, double mu, const std::string& extent,
+                     const std::string& body, const std::string& plane_min,
+                     const std::string& plane_max, const std::string& tail = "") {
+  return fmt::format(R"(
 [simulation]
-dimension = {0}
+dimension = {}
 end_time = 1.0
 cfl = 0.4
-gravity = {1}
+gravity = {}
 scheme = "musl"
 flip = 1.0
 [grid]
-extent = {2}
+extent = {}
 cell_size = 0.1
 shape_function = "gimp"
 [[material]]
@@ -48,68 +47,42 @@ density = 2000
 youngs_modulus = 1.0e8
 poisson_ratio = 0.3
 [[body]]
-name = "block"
+name = "body"
 material = "rock"
-box = {{ min = {3}, max = {4} }}
+{}
 [[body]]
 name = "plane"
 material = "rock"
 rigid = true
-box = {{ min = {5}, max = {6} }}
+box = {{ min = {}, max = {} }}
 [[contact]]
-bodies = ["block", "plane"]
-friction = {7}
+bodies = ["body", "plane"]
+friction = {}
 law = "surface"
-[initial_state]
-settle_time = 0.2
-hold_contacts = true
-)",
-      dim, tilted(dim, theta), three ? "[6.0, 1.6, 1.2]" : "[6.0, 1.2]",
-      three ? "[0.5, 0.3, 0.4]" : "[0.5, 0.4]", three ? "[1.5, 1.3, 0.9]" : "[1.5, 0.9]",
-      three ? "[0.1, 0.1, 0.2]" : "[0.1, 0.2]", three ? "[5.9, 1.5, 0.4]" : "[5.9, 0.4]", mu);
+{})",
+                     dim, tilted(dim, theta), extent, body, plane_min, plane_max, mu, tail);
 }
 
-// A disk (2D) or sphere (3D) of radius 0.5 m at rest and unstressed on a rigid plane, 5 cells per
-// radius.
+// A block 1 m long and 0.5 m high (1 m wide in 3D), settled with its contact sticking, so that
+// the run starts from the equilibrium stress the rigid block's closed form assumes.
+std::string block_case(int dim, double theta, double mu) {
+  const bool three = dim == 3;
+  return on_plane(dim, theta, mu, three ? "[6.0, 1.6, 1.2]" : "[6.0, 1.2]",
+                  three ? "box = { min = [0.5, 0.3, 0.4], max = [1.5, 1.3, 0.9] }"
+                        : "box = { min = [0.5, 0.4], max = [1.5, 0.9] }",
+                  three ? "[0.1, 0.1, 0.2]" : "[0.1, 0.2]",
+                  three ? "[5.9, 1.5, 0.4]" : "[5.9, 0.4]",
+                  "[initial_state]\nsettle_time = 0.2\nhold_contacts = true\n");
+}
+
+// A disk (2D) or sphere (3D) of radius 0.5 m at rest and unstressed, 5 cells per radius.
 std::string ball_case(int dim, double theta, double mu) {
   const bool three = dim == 3;
-  return fmt::format(R"(
-[simulation]
-dimension = {0}
-end_time = 1.0
-cfl = 0.4
-gravity = {1}
-scheme = "musl"
-flip = 1.0
-[grid]
-extent = {2}
-cell_size = 0.1
-shape_function = "gimp"
-[[material]]
-name = "m"
-density = 2000
-youngs_modulus = 1.0e8
-poisson_ratio = 0.3
-[[body]]
-name = "ball"
-material = "m"
-{3}
-particles_per_cell = {4}
-[[body]]
-name = "plane"
-material = "m"
-rigid = true
-box = {{ min = {5}, max = {6} }}
-[[contact]]
-bodies = ["ball", "plane"]
-friction = {7}
-law = "surface"
-)",
-                     dim, tilted(dim, theta), three ? "[4.4, 1.6, 1.6]" : "[4.4, 1.6]",
-                     three ? "sphere = { center = [0.8, 0.8, 0.9], radius = 0.5 }"
-                           : "disk = { center = [0.8, 0.9], radius = 0.5 }",
-                     three ? 2 : 4, three ? "[0.1, 0.1, 0.1]" : "[0.1, 0.1]",
-                     three ? "[4.3, 1.5, 0.4]" : "[4.3, 0.4]", mu);
+  return on_plane(
+      dim, theta, mu, three ? "[4.4, 1.6, 1.6]" : "[4.4, 1.6]",
+      three ? "sphere = { center = [0.8, 0.8, 0.9], radius = 0.5 }\nparticles_per_cell = 2"
+            : "disk = { center = [0.8, 0.9], radius = 0.5 }\nparticles_per_cell = 4",
+      three ? "[0.1, 0.1, 0.1]" : "[0.1, 0.1]", three ? "[4.3, 1.5, 0.4]" : "[4.3, 0.4]");
 }
 
 // Body 0's mass-weighted mean of f(p).
