@@ -148,25 +148,27 @@ for label, sig, step, t1, t2 in [("fixed_sigint_settling", signal.SIGINT, 5, 1, 
 
 # Contact at surface points (law = "surface"): the points are rebuilt from the particles' first
 # positions on a restart, and the run continues to the same bits (a disk rolling at mu 10,
-# settled with its contact held, then released).
-case = source / "cases/benchmarks/general_rolling.toml"
-settings = ["grid.cell_size=0.1", "contact.0.friction=10",
-            "simulation.gravity=[4.905, -8.49570921113]", "initial_state.settle_time=0.1",
-            "initial_state.hold_contacts=true", "simulation.end_time=0.4", "output.every=0.05",
-            "output.particles=true", "checkpoint.every=0.1", "checkpoint.wall_minutes=0"]
-ref = fresh("surface_reference")
-code, err = run(case_args(ref), 2)
-assert code == 0, f"surface-contact reference run failed ({code}): {err}"
-total = json.loads((ref / "summary.json").read_text())["steps"]
-for label, sig, step, t1, t2 in [("surface_sigterm", signal.SIGTERM, total // 2, 1, 2),
-                                 ("surface_kill9", signal.SIGKILL, (3 * total) // 4, 2, 1)]:
-    out = fresh(label)
-    run(case_args(out), t1, (sig, step))
-    code, err = run(["--restart", str(out)], t2)
-    if code != 0:
-        failures.append(f"{label}: restart failed ({code}): {err.strip()}")
-        continue
-    compare(ref, out, label)
+# settled with its contact held, then released); under FLIP with GIMP, and under APIC with
+# B-splines (the particles' affine velocities are in the checkpoint).
+for name in ("general_rolling", "general_rolling_apic"):
+    case = source / f"cases/benchmarks/{name}.toml"
+    settings = ["grid.cell_size=0.1", "contact.0.friction=10",
+                "simulation.gravity=[4.905, -8.49570921113]", "initial_state.settle_time=0.1",
+                "initial_state.hold_contacts=true", "simulation.end_time=0.4", "output.every=0.05",
+                "output.particles=true", "checkpoint.every=0.1", "checkpoint.wall_minutes=0"]
+    ref = fresh(f"{name}_reference")
+    code, err = run(case_args(ref), 2)
+    assert code == 0, f"{name} reference run failed ({code}): {err}"
+    total = json.loads((ref / "summary.json").read_text())["steps"]
+    for label, sig, step, t1, t2 in [(f"{name}_sigterm", signal.SIGTERM, total // 2, 1, 2),
+                                     (f"{name}_kill9", signal.SIGKILL, (3 * total) // 4, 2, 1)]:
+        out = fresh(label)
+        run(case_args(out), t1, (sig, step))
+        code, err = run(["--restart", str(out)], t2)
+        if code != 0:
+            failures.append(f"{label}: restart failed ({code}): {err.strip()}")
+            continue
+        compare(ref, out, label)
 
 code, err = run(["--restart", str(work / "no_such_run")], 1)
 if code != 2 or "no checkpoint" not in err:

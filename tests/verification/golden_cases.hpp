@@ -46,6 +46,9 @@ std::uint64_t state_hash(const Simulation<D>& sim) {
   P.for_each_array([&](const auto& a) {
     if (static_cast<const void*>(&a) != static_cast<const void*>(&P.pore) || banded) H.add(a);
   });
+  P.for_each_optional([&](const auto& a) { // only where a case uses one (APIC's C)
+    if (!a.empty()) H.add(a);
+  });
   if (!banded)
     for (const auto o : P.pore)
       if (o != -1) throw std::logic_error("a band offset in a case without bands");
@@ -228,6 +231,14 @@ inline const std::vector<GoldenCase>& golden_cases() {
        0xc55328afe233362full},
       // The 3D sphere on a rigid plane.
       {"sphere_3d", "cases/benchmarks/rolling_sphere.toml", {}, 0, 200, 0xbaec6138267914f4ull},
+      // APIC with quadratic B-splines: a disk rolling at its surface points (one process only).
+      {"rolling_disk_apic",
+       "cases/benchmarks/general_rolling_apic.toml",
+       {"simulation.gravity=[4.905, -8.49570921113]", "contact.0.friction=10.0",
+        "grid.cell_size=0.1"},
+       0,
+       200,
+       0x9c5ef66b82ce7468ull},
   };
   return cases;
 }

@@ -33,6 +33,7 @@ struct SimulationSettings {
   Scheme scheme = Scheme::musl;
   double flip = 1.0;    // 1 = pure FLIP, 0 = pure PIC
   int xpic = 0;         // XPIC(m)'s order m; 0: the particles carry their own velocity
+  bool apic = false;    // APIC: the particles carry an affine velocity field
   double damping = 0.0; // local (Cundall) damping fraction of the nodal force
 };
 

@@ -54,6 +54,11 @@ SimulationSettings read_simulation(TableReader& r) {
   require(r, "xpic", xpic >= 0.0 && xpic <= 8.0 && xpic == std::floor(xpic),
           "must be an integer from 0 (off) to 8");
   s.xpic = static_cast<int>(xpic);
+  s.apic = r.boolean("apic", false);
+  if (s.apic && s.xpic > 0) r.fail("apic", "cannot go with xpic: choose one transfer");
+  if (s.apic && r.has("flip"))
+    r.fail("flip", "has no meaning under apic (the particles take the grid's velocity and its "
+                   "gradient): remove it");
   s.damping = r.number("damping", 0.0);
   require(r, "damping", s.damping >= 0.0 && s.damping < 1.0, "must be in [0, 1)");
   return s;

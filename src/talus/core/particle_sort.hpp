@@ -56,6 +56,9 @@ template <int D>
 void apply_order(Particles<D>& P, const std::vector<std::uint32_t>& order) {
   std::vector<char> done;
   P.for_each_array([&](auto& a) { permute(a, order, done); });
+  P.for_each_optional([&](auto& a) {
+    if (!a.empty()) permute(a, order, done);
+  });
 }
 
 } // namespace talus

@@ -35,6 +35,11 @@ struct Particles {
   // The body velocity field the particle maps to: its own body's, or, for an orphan (a particle
   // cut off from its body inside another one, contact.orphan_fraction), that body's.
   std::vector<std::int32_t> field;
+  // Under APIC (simulation.apic) the particle's affine velocity C_p (its field's velocity
+  // gradient at its last G2P); empty otherwise. Optional arrays are either empty or of size();
+  // sorting, checkpoints and the golden hashes take them (for_each_optional), the processes'
+  // exchange does not (APIC runs on one process).
+  std::vector<Mat<D>> C;
 
   std::vector<std::size_t> body_begin{0}; // size = bodies + 1
 
@@ -58,6 +63,11 @@ struct Particles {
   template <class Fn>
   void for_each_array(Fn&& f) {
     std::apply([&](auto... a) { (f(this->*a), ...); }, arrays());
+  }
+  // Every optional array (empty, or one entry per particle), in checkpoint order.
+  template <class Fn>
+  void for_each_optional(Fn&& f) {
+    f(C);
   }
   // f(a's array, b's array) for every array of two particle sets.
   template <class Fn>

@@ -13,7 +13,7 @@ constexpr char magic[8] = {'T', 'A', 'L', 'U', 'S', 'C', 'K', 'P'};
 // 9: frames rounded to output.field_bits (an older folder's frames are exact); 8: fixed bodies
 // written once (an older folder's frames are whole); 7: run-up probes;
 // 6: waves.csv; 5: contact nodes
-constexpr std::uint32_t format_version = 9;
+constexpr std::uint32_t format_version = 10;
 
 constexpr std::uint64_t fnv_basis = 14695981039346656037ull;
 std::uint64_t fnv1a(std::string_view s, std::uint64_t h = fnv_basis) {

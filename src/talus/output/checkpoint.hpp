@@ -80,6 +80,7 @@ public:
     if (!order_) {
       io(P.body_begin);
       P.for_each_array([&](auto& a) { io(a); });
+      P.for_each_optional([&](auto& a) { io(a); });
       return;
     }
     io(body_begin_);
@@ -94,6 +95,12 @@ public:
       order_->gather(
           sizeof(T), [&](std::size_t p, char* out) { std::memcpy(out, &a[p], sizeof(T)); },
           [&](const char* data, std::size_t count) { raw(data, count * sizeof(T)); });
+    });
+    // Several processes run without the optional arrays (APIC runs on one).
+    P.for_each_optional([&](auto& a) {
+      std::uint64_t none = 0;
+      if (!a.empty()) throw CheckpointError("an optional particle array on several processes");
+      io(none);
     });
   }
 
@@ -183,6 +190,16 @@ public:
         pos_ += n * sizeof(T);
       else
         raw(a.data(), n * sizeof(T));
+    });
+    P.for_each_optional([&](auto& a) { // empty, or one entry per particle
+      using T = typename std::decay_t<decltype(a)>::value_type;
+      const std::uint64_t k = count(sizeof(T));
+      if (k != 0 && k != n)
+        throw CheckpointError(source_ + ": corrupt checkpoint (particle array length)");
+      if (k != 0 && choose_)
+        throw CheckpointError(source_ + ": this checkpoint's APIC state restarts on one process");
+      a.resize(k);
+      raw(a.data(), k * sizeof(T));
     });
     P.body_begin = body_begin;
     if (!choose_) return;

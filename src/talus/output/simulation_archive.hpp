@@ -24,6 +24,10 @@ void serialize_state(Ar& ar, Simulation<D>& sim, const std::string& source) {
     const std::vector<std::size_t> whole = sim.case_body_begin();
     io_expect(ar, whole, "bodies and particle counts", source);
     ar.particles(sim.particles_, whole);
+    if (sim.setup().apic != !sim.particles_.C.empty())
+      throw CheckpointError(source + (sim.setup().apic
+                                          ? ": was not run with simulation.apic: restart it without"
+                                          : ": was run with simulation.apic: restart it with it"));
     sim.invalidate_shape();
     sim.check_.checked = false;
     // The map from id to index, from the ids (each once, within the case's).

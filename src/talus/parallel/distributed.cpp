@@ -37,6 +37,10 @@ void Distributed<D>::init() {
   if (size_ > 1 && !sim_.setup().surface_pairs.empty())
     throw DecompositionError("[[contact]] law = \"surface\" runs on one process for now: run "
                              "this case without mpirun (threads share its work)");
+  // The shares are rebuilt from Particles::arrays(), which leave APIC's C out.
+  if (sim_.setup().apic)
+    throw DecompositionError("simulation.apic runs on one process for now: run this case "
+                             "without mpirun (threads share its work)");
   const Grid<D>& G = sim_.grid();
   for (int d = 1; d < D; ++d)
     cells_per_column_ *= G.cells[d];

@@ -91,6 +91,7 @@ Setup<D> make_setup(const Case& c, const Grid<D>& grid, const std::vector<double
   s.shape = c.grid.shape;
   s.flip = c.simulation.flip;
   s.xpic = c.simulation.xpic;
+  s.apic = c.simulation.apic;
   s.damping = c.simulation.damping;
   s.settle_damping = c.initial_state.settle_damping;
   s.hold_interfaces = c.initial_state.hold_interfaces;

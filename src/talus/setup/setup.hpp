@@ -79,6 +79,7 @@ struct Setup {
   ShapeKind shape = ShapeKind::gimp;
   double flip = 1.0;
   int xpic = 0;                               // XPIC(m)'s order, 0 off
+  bool apic = false;                          // APIC transfers
   double damping = 0.0, settle_damping = 0.0; // local damping in motion and while settling
   bool hold_interfaces = true;                // settling holds bonded interfaces outright
   bool hold_contacts = false;                 // settling sticks every contact

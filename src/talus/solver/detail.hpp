@@ -1,6 +1,7 @@
 // Helpers shared by the files of the solver's phases (not part of the library's interface).
 #pragma once
 
+#include "talus/core/nodes.hpp"
 #include "talus/core/particles.hpp"
 #include "talus/physics/contact.hpp"
 #include "talus/solver/exchange.hpp"
@@ -8,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstddef>
+#include <type_traits>
 
 namespace talus::detail {
 
@@ -31,6 +33,38 @@ private:
 };
 inline PhaseTimer timed(double& seconds) {
   return PhaseTimer(seconds);
+}
+
+// How the particles carry velocity between steps: their own under a FLIP/PIC blend, XPIC(m)'s
+// S v*, or APIC's affine field v_p + C_p (x - x_p).
+enum class Transfer { flip, xpic, apic };
+// Where APIC's affine field is sampled for node I of field N: the node, or with B-splines its
+// basis function's Greville point, which the open knots put 3/4 of a cell in for the second
+// node from a face (talus/core/shape.hpp): with it sum_I N_I x_I = x_p holds to the faces, so
+// p_I = sum_p N_I m_p (v_p + C_p (x_I - x_p)) keeps an affine field there too.
+template <int D>
+Vec<D> apic_node_position(const BodyField<D>& N, std::int64_t I, bool bspline) {
+  const Index<D> i = N.box.node_coords(I);
+  Vec<D> x = N.box.node_position(i);
+  if (bspline)
+    for (int d = 0; d < D; ++d) {
+      const std::int64_t f = N.offset[d] + i[d] - N.frame_offset[d]; // in the frame's numbering
+      if (N.face_hi[d] - N.face_lo[d] < 3) continue; // two cells: the middle node is its own
+      if (f == N.face_lo[d] + 1) x[d] -= 0.25 * N.box.h;
+      if (f == N.face_hi[d] - 1) x[d] += 0.25 * N.box.h;
+    }
+  return x;
+}
+
+// fn(std::integral_constant<Transfer, T>{}) for the setup's transfer T.
+template <class Setup, class Fn>
+void with_transfer(const Setup& s, Fn&& fn) {
+  if (s.xpic > 0)
+    fn(std::integral_constant<Transfer, Transfer::xpic>{});
+  else if (s.apic)
+    fn(std::integral_constant<Transfer, Transfer::apic>{});
+  else
+    fn(std::integral_constant<Transfer, Transfer::flip>{});
 }
 
 // Records the smallest bad particle index seen by any thread. With an exchange only this

@@ -24,7 +24,7 @@ namespace {
 // (1 - flip) v^{n+1} (interpolated), and moves with (v^n + v^{n+1}) / 2. Under XPIC(m) the
 // particle carries S v* for v_p, against the contact-corrected v_c for v^n:
 // v_p <- v^{n+1} + flip S (v* - v_c).
-template <bool Xpic, int D>
+template <detail::Transfer T, int D>
 [[gnu::always_inline]] inline void
 move_particle(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const BodyField<D>& N,
               const ShapeWeights<D>& sw, double flip, double dt) {
@@ -34,13 +34,17 @@ move_particle(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const Bo
     return;
   }
   Vec<D> v_old = Vec<D>::Zero(), v_new = Vec<D>::Zero(), delta = Vec<D>::Zero();
-  for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+  Mat<D> C = Mat<D>::Zero();
+  for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
     v_old += N_I * N.v[I];
     v_new += N_I * N.v_new[I];
-    if constexpr (Xpic) delta += N_I * N.xpic_delta[I];
+    if constexpr (T == detail::Transfer::xpic) delta += N_I * N.xpic_delta[I];
+    if constexpr (T == detail::Transfer::apic) C += N.v_new[I] * dN_I.transpose();
   });
-  if constexpr (Xpic)
+  if constexpr (T == detail::Transfer::xpic)
     P.v[p] = v_new + flip * delta;
+  else if constexpr (T == detail::Transfer::apic)
+    P.v[p] = v_new, P.C[p] = C;
   else
     P.v[p] = flip * (P.v[p] + v_new - v_old) + (1.0 - flip) * v_new;
   P.x[p] += 0.5 * dt * (v_old + v_new);
@@ -96,19 +100,16 @@ void Simulation<D>::update_particles(double dt) {
     shape_.require(steps_, particles_.size());
     const BodySetup<D>& body = setup_.bodies[b];
     const std::int64_t begin = P.body_begin[b], end = P.body_begin[b + 1];
-    auto move = [&](auto xpic) {
+    auto move = [&](auto transfer) {
 #pragma omp parallel for schedule(static)
       for (std::int64_t p = begin; p < end; ++p) {
         if (body.fluid && P.m[p] == 0.0) continue; // gone through an outflow face: stays there
-        move_particle<xpic()>(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
+        move_particle<transfer()>(P, p, body, fields_[P.field[p]], shape_[p], flip, dt);
         if (!detail::motion_ok(P, p, lo, hi) && !put_back_on_walls(P, p, body, lo, hi, faces))
           detail::record_bad(gone, static_cast<std::size_t>(p), exchange_);
       }
     };
-    if (setup_.xpic > 0)
-      move(std::true_type{});
-    else
-      move(std::false_type{});
+    detail::with_transfer(setup_, move);
   }
   check_.bad_particle = std::min(check_.bad_particle, gone.load());
 }
@@ -127,24 +128,31 @@ void Simulation<D>::update_particles_and_remap(double dt) {
   std::atomic<std::size_t> gone{StepCheck::no_particle};
   const Vec<D> lo = grid_.origin, hi = grid_.upper();
   const GridConditions<D>& faces = setup_.conditions;
-  auto move_and_remap = [&](auto xpic) {
+  const bool bspline = setup_.shape == ShapeKind::bspline;
+  auto move_and_remap = [&](auto transfer) {
     scatter([&](std::uint32_t p, int b) {
       BodyField<D>& N = fields_[P.field[p]];
       const ShapeWeights<D>& sw = shape_.weights[p];
       if (setup_.bodies[b].fluid && P.m[p] == 0.0) return; // gone through an outflow face
-      move_particle<xpic()>(P, p, setup_.bodies[b], N, sw, flip, dt);
+      [[maybe_unused]] const Vec<D> x_n = P.x[p];          // where the weights were taken
+      move_particle<transfer()>(P, p, setup_.bodies[b], N, sw, flip, dt);
       if (!detail::motion_ok(P, p, lo, hi) &&
           !put_back_on_walls(P, p, setup_.bodies[b], lo, hi, faces))
         detail::record_bad(gone, p, exchange_);
       const Vec<D> mv_p = P.m[p] * P.v[p];
-      for_each_node(N.box, sw,
-                    [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
+      if constexpr (transfer() ==
+                    detail::Transfer::apic) { // p_I += N_I m_p (v_p + C_p (x_I - x_p))
+        const Mat<D> mC = P.m[p] * P.C[p];
+        for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>&) {
+          N.p[I] += N_I * (mv_p + mC * (detail::apic_node_position(N, I, bspline) - x_n));
+        });
+      } else {
+        for_each_node(N.box, sw,
+                      [&](std::int64_t I, double N_I, const Vec<D>&) { N.p[I] += N_I * mv_p; });
+      }
     });
   };
-  if (setup_.xpic > 0)
-    move_and_remap(std::true_type{});
-  else
-    move_and_remap(std::false_type{});
+  detail::with_transfer(setup_, move_and_remap);
   check_.bad_particle = std::min(check_.bad_particle, gone.load());
   for (int b = 0; b < num_bodies(); ++b) {
     if (field_held_[b]) continue;

@@ -54,6 +54,7 @@ void Simulation<D>::scatter_particles() {
   const ShapeKind kind = setup_.shape;
   shape_.weights.resize(P.size());
   shape_.step = steps_;
+  const bool bspline = kind == ShapeKind::bspline;
   scatter([&](std::uint32_t p, int b) {
     const int f = P.field[p]; // b, or the host of an orphan
     BodyField<D>& N = fields_[f];
@@ -63,10 +64,14 @@ void Simulation<D>::scatter_particles() {
     const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
     const Vec<D> mg = setup_.weight(m_p, b, P.x[p]);
-    auto map = [&]<bool contact>() {
+    auto map = [&]<bool contact, bool apic>() {
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
         N.m[I] += N_I * m_p;
-        N.p[I] += N_I * mv_p;
+        if constexpr (apic) // APIC: p_I += N_I m_p (v_p + C_p (x_I - x_p))
+          N.p[I] +=
+              N_I * (mv_p + m_p * (P.C[p] * (detail::apic_node_position(N, I, bspline) - P.x[p])));
+        else
+          N.p[I] += N_I * mv_p;
         if constexpr (contact) {
           N.mx[I] += N_I * mx_p;
           N.grad_m[I] += m_p * dN_I;
@@ -79,11 +84,12 @@ void Simulation<D>::scatter_particles() {
     // particle whose nodes miss every other box so widened (most of the Vaiont bedrock) skips
     // them. The sums at every node contact reads are unchanged.
     // A fixed body's field is scattered once for every step to come: all of it.
-    if (with_contact &&
-        (setup_.bodies[b].fixed || reaches_other_body(f, sw, setup_.normal_smoothing)))
-      map.template operator()<true>();
+    const bool near = with_contact && (setup_.bodies[b].fixed ||
+                                       reaches_other_body(f, sw, setup_.normal_smoothing));
+    if (setup_.apic && !setup_.bodies[b].rigid)
+      near ? map.template operator()<true, true>() : map.template operator()<false, true>();
     else
-      map.template operator()<false>();
+      near ? map.template operator()<true, false>() : map.template operator()<false, false>();
     if (with_forces && N.needs.hydro) scatter_hydrostatic_load(N, sw, p);
     if (P.iface[p] >= 0 && f == b) { // eq. 37 (an orphan is not on its interface any more): the
                                      // interface particle's friction and area at its nodes (its

@@ -28,6 +28,7 @@ Simulation<D>::Simulation(const Case& c, Seeded<D> seeded) : case_data_(c) {
   warnings_ = std::move(seeded.warnings);
   body_count_ = std::move(seeded.body_count);
   setup_ = make_setup<D>(c, grid_, seeded.body_mass);
+  if (setup_.apic) particles_.C.assign(particles_.size(), Mat<D>::Zero()); // at rest or translating
   const int B = particles_.num_bodies();
   fields_.resize(B);
   for (int b = 0; b < B; ++b) {

@@ -291,6 +291,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"dimension", "dimension = 2", "dimension = 4",
                 "simulation.dimension: must be in [2, 3], got 4"},
         BadCase{"flip_range", "flip = 0.95", "flip = 1.5", "simulation.flip: must be in [0, 1]"},
+        BadCase{"apic_with_flip", "flip = 0.95", "flip = 0.95\napic = true",
+                "simulation.flip: has no meaning under apic"},
+        BadCase{"apic_with_xpic", "flip = 0.95", "xpic = 2\napic = true",
+                "simulation.apic: cannot go with xpic"},
         BadCase{
             "two_geometries", "box = { min = [0, 0], max = [1, 0.5] }",
             "box = { min = [0, 0], max = [1, 0.5] }\ndisk = { center = [0.5, 0.5], radius = 0.1 }",

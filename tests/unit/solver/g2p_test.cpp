@@ -6,6 +6,7 @@
 #include "test_support.hpp"
 #include "two_bodies.hpp"
 
+#include <algorithm>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <string>
@@ -148,6 +149,52 @@ TEST(Xpic, DropsTheVelocitiesTheGridCannotRepresent) {
   EXPECT_LT(xpic_noise, 0.05);
   EXPECT_NEAR(xpic_vx, 1.0, 1e-9);
   EXPECT_NEAR(flip_vx, 1.0, 1e-9);
+}
+
+// APIC keeps an affine velocity field v = A x + b through P2G and G2P: each node gets
+// p_I = sum_p N_I m_p (A x_p + b + C_p (x_I - x_p)) = m_I (A x_I + b) when C_p = A, and the
+// gather gives back v_p = A x_p + b and C_p = sum_I v_I grad N_I = A (every shape function here
+// reproduces a linear field and its gradient). PIC's gather averages instead: a rotation decays.
+TYPED_TEST(G2P, ApicKeepsAnAffineVelocityField) {
+  constexpr int D = TypeParam::value;
+  Mat<D> A;
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j)
+      A(i, j) = i == j ? 0.3 * (i + 1) : (i < j ? 1.5 : -1.1) + 0.2 * (i + j); // spin and strain
+  Vec<D> b = Vec<D>::Constant(0.4);
+  const double dt = 1e-4;
+  Vec<D> g = Vec<D>::Zero();
+  g[D - 1] = -9.81;
+  for (const char* shape : {"linear", "gimp", "bspline"})
+    for (const bool apic : {true, false}) {
+      std::string text = block_case<D>(shape, "usl", 0.0);
+      if (apic) text.replace(text.find("flip = 0"), 8, "apic = true");
+      Simulation<D> sim(test::case_from(text));
+      auto& P = sim.particles_mut();
+      ASSERT_EQ(P.C.size(), apic ? P.size() : 0) << "C is kept only under APIC";
+      for (std::size_t p = 0; p < P.size(); ++p) {
+        P.v[p] = A * P.x[p] + b;
+        if (apic) P.C[p] = A;
+      }
+      const auto x0 = P.x;
+      sim.bin_particles_by_slab();
+      sim.fit_body_fields();
+      sim.map_particles_to_nodes(true);
+      sim.compute_node_velocities();
+      sim.integrate_node_forces(dt); // gravity alone: the stress is zero
+      sim.update_particles(dt);
+      double worst = 0.0, worst_C = 0.0;
+      for (std::size_t p = 0; p < P.size(); ++p) {
+        worst = std::max(worst, (P.v[p] - (A * x0[p] + b + g * dt)).norm());
+        if (apic) worst_C = std::max(worst_C, (P.C[p] - A).norm());
+      }
+      if (apic) {
+        EXPECT_LT(worst, 1e-12) << shape;
+        EXPECT_LT(worst_C, 1e-11) << shape;
+      } else {
+        EXPECT_GT(worst, 1e-3) << shape << ": PIC should not keep the field (the test's contrast)";
+      }
+    }
 }
 
 } // namespace
