@@ -1,4 +1,4 @@
-// APIC (simulation.apic, docs/formulation.md "Transfers"): a disk or sphere spinning freely keeps
+// APIC (simulation.apic, docs/formulation.md "APIC"): a disk or sphere spinning freely keeps
 // its angular momentum, which PIC's gather damps and FLIP keeps only with its noise; a disk
 // rolling down an incline follows the rolling cylinder's closed form at every friction and
 // angle of general_rolling_apic.toml (`talus verify`).

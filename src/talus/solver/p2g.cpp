@@ -23,10 +23,16 @@ namespace talus {
 template <int D>
 void Simulation<D>::map_particles_to_nodes(bool with_forces) {
   const bool contact = fields_.empty() || fields_[0].needs.contact;
+  auto with_apic = [&]<bool forces, bool near>() {
+    setup_.apic ? scatter_particles<forces, near, true>()
+                : scatter_particles<forces, near, false>();
+  };
   if (with_forces)
-    contact ? scatter_particles<true, true>() : scatter_particles<true, false>();
+    contact ? with_apic.template operator()<true, true>()
+            : with_apic.template operator()<true, false>();
   else
-    contact ? scatter_particles<false, true>() : scatter_particles<false, false>();
+    contact ? with_apic.template operator()<false, true>()
+            : with_apic.template operator()<false, false>();
 }
 
 // Whether any node in the support of sw (body b's weights) lies in another body's field box.
@@ -48,7 +54,7 @@ bool Simulation<D>::reaches_other_body(int b, const ShapeWeights<D>& sw, int mar
 }
 
 template <int D>
-template <bool with_forces, bool with_contact>
+template <bool with_forces, bool with_contact, bool apic>
 void Simulation<D>::scatter_particles() {
   auto& P = particles_;
   const ShapeKind kind = setup_.shape;
@@ -64,10 +70,10 @@ void Simulation<D>::scatter_particles() {
     const Vec<D> mv_p = m_p * P.v[p], mx_p = m_p * P.x[p];
     const Mat<D> Vsigma = P.vol[p] * in_plane<D>(to_tensor(P.stress[p]));
     const Vec<D> mg = setup_.weight(m_p, b, P.x[p]);
-    auto map = [&]<bool contact, bool apic>() {
+    auto map = [&]<bool contact>() {
       for_each_node(N.box, sw, [&](std::int64_t I, double N_I, const Vec<D>& dN_I) {
         N.m[I] += N_I * m_p;
-        if constexpr (apic) // APIC: p_I += N_I m_p (v_p + C_p (x_I - x_p))
+        if constexpr (apic) // APIC: p_I += N_I m_p (v_p + C_p (x_I - x_p)); a rigid body's C is 0
           N.p[I] +=
               N_I * (mv_p + m_p * (P.C[p] * (detail::apic_node_position(N, I, bspline) - P.x[p])));
         else
@@ -86,10 +92,7 @@ void Simulation<D>::scatter_particles() {
     // A fixed body's field is scattered once for every step to come: all of it.
     const bool near = with_contact && (setup_.bodies[b].fixed ||
                                        reaches_other_body(f, sw, setup_.normal_smoothing));
-    if (setup_.apic && !setup_.bodies[b].rigid)
-      near ? map.template operator()<true, true>() : map.template operator()<false, true>();
-    else
-      near ? map.template operator()<true, false>() : map.template operator()<false, false>();
+    near ? map.template operator()<true>() : map.template operator()<false>();
     if (with_forces && N.needs.hydro) scatter_hydrostatic_load(N, sw, p);
     if (P.iface[p] >= 0 && f == b) { // eq. 37 (an orphan is not on its interface any more): the
                                      // interface particle's friction and area at its nodes (its

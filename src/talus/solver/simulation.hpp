@@ -229,7 +229,7 @@ private:
   [[noreturn]] void report_bad_particle(std::size_t p) const;
   [[noreturn]] void report_time_step_collapse(double stable, double floor) const;
   // P2G with its options fixed at compile time (see map_particles_to_nodes).
-  template <bool with_forces, bool with_contact>
+  template <bool with_forces, bool with_contact, bool apic>
   void scatter_particles();
   bool reaches_other_body(int body, const ShapeWeights<D>& sw, int margin) const;
   template <class Model>
