@@ -200,7 +200,7 @@ void read_bodies(TableReader& root, Case& c, InputFiles& files, const MemoryBudg
     // the bodies before it and the grid (its field counted with contact, MUSL's re-map and one
     // interface slot: the interfaces are read later).
     memory += estimate_particles(b.geometry[0], dim, c.grid.cell_size, b.particles_per_cell) *
-                  bytes_per_particle(dim) +
+                  bytes_per_particle(dim, c.simulation.apic) +
               field_nodes(lo, hi, dim, c.grid.cell_size) *
                   bytes_per_field_node(dim, true, c.simulation.scheme == Scheme::musl, 1);
     if (const double need = grid + share * memory; need > available)

@@ -31,8 +31,9 @@ double particle_bytes() {
 
 } // namespace
 
-double bytes_per_particle(int dim) {
-  return dim == 2 ? particle_bytes<2>() : particle_bytes<3>();
+double bytes_per_particle(int dim, bool apic) {
+  const double affine = apic ? sizeof(double) * dim * dim : 0.0; // APIC's C (an optional array)
+  return (dim == 2 ? particle_bytes<2>() : particle_bytes<3>()) + affine;
 }
 
 double bytes_per_field_node(int dim, bool contact, bool remap, int interface_slots) {
@@ -142,7 +143,7 @@ double estimate_memory(const Case& c, const std::vector<std::size_t>& particles)
       slots += (f.a == static_cast<int>(b)) + (f.b == static_cast<int>(b));
     Vec3a lo{}, hi{};
     geometry_bounds(body.geometry[0], dim, lo, hi);
-    memory += static_cast<double>(particles[b]) * bytes_per_particle(dim);
+    memory += static_cast<double>(particles[b]) * bytes_per_particle(dim, c.simulation.apic);
     memory += std::min(nodes, field_nodes(lo, hi, dim, c.grid.cell_size)) *
               bytes_per_field_node(dim, contact, remap, slots);
   }

@@ -13,8 +13,8 @@ namespace talus {
 
 // Bytes each particle holds while a run steps, counted from the types the solver allocates:
 // every Particles<D> array, its shape-weight cache entry, its slab bin, bin index and id index,
-// and the particle sort's scratch (order, key and mark).
-double bytes_per_particle(int dim);
+// and the particle sort's scratch (order, key and mark); with `apic`, APIC's affine velocity too.
+double bytes_per_particle(int dim, bool apic = false);
 // Bytes per node of a body's velocity field (BodyField<D>): mass, momentum, force, v^n, v^{n+1},
 // with contact the mass gradient and position, with MUSL the re-mapped velocity, and six
 // doubles per interface slot.

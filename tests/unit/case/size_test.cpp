@@ -17,6 +17,9 @@ TEST(MemoryEstimate, BytesPerParticleFromTheTypes) {
       [&](auto& a) { own += sizeof(typename std::decay_t<decltype(a)>::value_type); });
   EXPECT_GT(bytes_per_particle(2), own);
   EXPECT_GT(bytes_per_particle(3), bytes_per_particle(2));
+  // APIC's affine velocity C_p, a D x D matrix, only when a case asks for it.
+  EXPECT_EQ(bytes_per_particle(2, true) - bytes_per_particle(2), sizeof(Mat<2>));
+  EXPECT_EQ(bytes_per_particle(3, true) - bytes_per_particle(3), sizeof(Mat<3>));
   EXPECT_EQ(bytes_per_field_node(2, false, false, 0), 8.0 + 4 * 16.0);
   EXPECT_EQ(bytes_per_field_node(3, true, true, 2), 8.0 + 7 * 24.0 + 12 * 8.0);
 }
