@@ -2,7 +2,7 @@
 """Writes cases/benchmarks/general_rolling.toml: the rolling sweep of `talus verify`'s
 "General parameters" section (docs/verification.md); with --apic,
 cases/benchmarks/general_rolling_apic.toml, the same cells with quadratic B-splines and APIC
-transfers (`simulation.apic`) at 10 cells per radius, and 20 at 15 deg with mu 10.
+transfers (`simulation.apic`) at 5 and 10 cells per radius, and 20 at 15 deg with mu 10.
 
 An elastic disk (a cylinder in plane strain) on a level rigid plane with gravity tilted by theta,
 so that "down the plane" is +x on every cell and the plane's surface is a straight row of
@@ -56,11 +56,18 @@ GAIN = ("the sticking contact gains kinetic energy on finer grids (about 5 % of 
         "cells per radius run 0.7 to 4 % ahead; docs/verification.md, "
         "\\\"General parameters: rolling\\\"")
 MISSES = {(10, 60.0, FAR): BOUNCE, (20, 15.0, FAR): GAIN}
+# With B-splines and APIC (--apic), the rolling cells at 5 cells per radius are slow.
+COARSE = ("with B-splines and APIC at 5 cells per radius the rolling disk is slow (-1.2 to -2.7 % as "
+          "written, -9 to -10 % at mu 10 with output every 0.05 s: the step sequence moves it) where "
+          "the weights reach 1.5 cells, 30 % of the radius; within 0.44 % at 10; "
+          "docs/verification.md, \\\"General parameters: rolling\\\"")
 
 
 def known(theta, mu, regime, cells, apic=False):
     """Rolling cells reported, not failed, with what misses them."""
-    return "" if apic else MISSES.get((cells, theta, mu), "")
+    if apic:
+        return COARSE if cells == 5 and regime == "rolls" else ""
+    return MISSES.get((cells, theta, mu), "")
 
 
 def check(theta, mu, regime, cells, apic=False):
@@ -152,8 +159,6 @@ def main():
         header = fill(args="", shape="gimp", title="", transfer="flip = 1.0", extra="")
     parts = [header]
     for cells in CELLS_PER_RADIUS:
-        if apic and cells == 5:
-            continue
         for theta in ANGLES:
             for mu, regime in frictions(theta):
                 if cells < 20 or (theta, mu) == FINE:

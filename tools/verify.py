@@ -363,6 +363,8 @@ def main():
                 print(f"{case.stem} {label} ({alt_label}): exit {q.returncode}", flush=True)
                 if q.returncode == 0:
                     alt = Run(alt_folder)
+                elif q.returncode == 2:  # the case refuses the override (e.g. xpic under apic)
+                    alt_failure = f"not run: {q.stderr.strip().splitlines()[-1:]}"
                 else:
                     alt_failure = f"run failed: {q.stderr.strip().splitlines()[-1:]}"
             run = Run(folder)
@@ -378,8 +380,9 @@ def main():
                 r["case"] = case.stem
                 r["plot"] = None
                 if alt_set:
-                    s = evaluate(c, alt) if alt else {"measured": None, "error": alt_failure,
-                                                      "status": "ERROR"}
+                    s = evaluate(c, alt) if alt else {
+                        "measured": None, "error": alt_failure,
+                        "status": "n/a" if alt_failure.startswith("not run") else "ERROR"}
                     r["alt"] = {"label": alt_label, "measured": s["measured"],
                                 "error": s["error"], "status": s["status"]}
                 rows.append(r)

@@ -75,8 +75,8 @@ particles_per_cell = 2
 
 // A sixth of a turn at 2 rad/s (0.5 s: 2,000 steps at 10 cells per radius in 2D; 10 MPa, so
 // the spin's hoop strain, rho omega^2 R^2 / E, is 2e-4). APIC keeps the angular momentum within
-// 0.1 % with GIMP and B-splines in 2D and 3D; PIC, the contrast that makes the test able to
-// fail, loses most of it.
+// 0.1 % with GIMP and B-splines in 2D and with B-splines in 3D; PIC, the contrast that makes the
+// test able to fail, loses most of it.
 TEST(Apic, AFreeDiskOrSphereKeepsItsAngularMomentum) {
   const double omega = 2.0, time = 0.5;
   for (const char* shape : {"gimp", "bspline"}) {

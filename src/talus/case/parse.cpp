@@ -141,6 +141,10 @@ void read_bodies(TableReader& root, Case& c, InputFiles& files, const MemoryBudg
     if (std::count(body_names.begin(), body_names.end(), b.name))
       r.fail("name", "two bodies have this name");
     b.material = lookup(r, "material", material_names, "material");
+    if (c.simulation.apic && std::holds_alternative<Fluid>(c.materials[b.material].model))
+      r.fail("material", "a fluid body cannot run under simulation.apic: its particles' affine "
+                         "velocities carry the contact's correction into rigid walls (water in a "
+                         "tank reaches 0.03 m/s; docs/formulation.md, \"APIC\"): use FLIP or PIC");
     b.geometry.push_back(read_geometry(r, dim, files, c.terrain_origin));
     b.particles_per_cell = r.integer("particles_per_cell", 2, 1, 8);
     b.velocity = r.vector("velocity", dim, Vec3a{0.0, 0.0, 0.0});

@@ -1,7 +1,8 @@
 // Particles<D>: plain structure-of-arrays state, stored contiguously by body: body b owns the
 // index range [body_begin[b], body_begin[b+1]). Every per-particle array is listed in
 // for_each_array, so sorting, checkpoints and the processes' exchange see all state (no hidden
-// state).
+// state); an optional array (for_each_optional: APIC's C) is empty or one entry a particle, and
+// sorting and checkpoints take it too.
 #pragma once
 
 #include "talus/core/math.hpp"
@@ -96,6 +97,7 @@ struct Particles {
     friction.push_back(0.0);
     slip.push_back(0.0);
     pore.push_back(-1);
+    if (!C.empty()) C.push_back(Mat<D>::Zero()); // an optional array in use keeps one a particle
     field.push_back(num_bodies()); // the body being filled: body_begin grows when it is complete
   }
 };

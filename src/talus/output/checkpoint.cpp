@@ -10,9 +10,9 @@ namespace talus {
 namespace {
 
 constexpr char magic[8] = {'T', 'A', 'L', 'U', 'S', 'C', 'K', 'P'};
-// 9: frames rounded to output.field_bits (an older folder's frames are exact); 8: fixed bodies
-// written once (an older folder's frames are whole); 7: run-up probes;
-// 6: waves.csv; 5: contact nodes
+// 10: optional particle arrays (APIC's affine velocities); 9: frames rounded to output.field_bits
+// (an older folder's frames are exact); 8: fixed bodies written once (an older folder's frames are
+// whole); 7: run-up probes; 6: waves.csv; 5: contact nodes
 constexpr std::uint32_t format_version = 10;
 
 constexpr std::uint64_t fnv_basis = 14695981039346656037ull;

@@ -26,8 +26,10 @@ void serialize_state(Ar& ar, Simulation<D>& sim, const std::string& source) {
     ar.particles(sim.particles_, whole);
     if (sim.setup().apic != !sim.particles_.C.empty())
       throw CheckpointError(source + (sim.setup().apic
-                                          ? ": was not run with simulation.apic: restart it without"
-                                          : ": was run with simulation.apic: restart it with it"));
+                                          ? ": corrupt checkpoint (its case sets simulation.apic, "
+                                            "but it holds no affine velocities)"
+                                          : ": corrupt checkpoint (affine velocities, but its "
+                                            "case does not set simulation.apic)"));
     sim.invalidate_shape();
     sim.check_.checked = false;
     // The map from id to index, from the ids (each once, within the case's).

@@ -23,7 +23,8 @@ namespace {
 // the FLIP/PIC blend of its field's velocity change, v_p <- flip (v_p + v^{n+1} - v^n) +
 // (1 - flip) v^{n+1} (interpolated), and moves with (v^n + v^{n+1}) / 2. Under XPIC(m) the
 // particle carries S v* for v_p, against the contact-corrected v_c for v^n:
-// v_p <- v^{n+1} + flip S (v* - v_c).
+// v_p <- v^{n+1} + flip S (v* - v_c). Under APIC it takes v^{n+1} and its gradient,
+// v_p <- sum N_I v_I^{n+1}, C_p <- sum v_I^{n+1} (grad N_I)^T.
 template <detail::Transfer T, int D>
 [[gnu::always_inline]] inline void
 move_particle(Particles<D>& P, std::size_t p, const BodySetup<D>& body, const BodyField<D>& N,
@@ -85,7 +86,8 @@ bool put_back_on_walls(Particles<D>& P, std::size_t p, const BodySetup<D>& body,
 } // namespace
 
 // G2P, eq. 22-23. Reads v^n and v^{n+1} of each particle's field and the shape-weight cache;
-// writes the particles' velocity (the FLIP/PIC blend of the grid change) and position (moved
+// writes the particles' velocity (the FLIP/PIC blend of the grid change, XPIC's or APIC's, with
+// APIC's C) and position (moved
 // with (v^n + v^{n+1}) / 2, exact for a constant acceleration); a rigid body's particles take
 // its prescribed velocity. A held field's particles do not move.
 template <int D>
@@ -116,7 +118,8 @@ void Simulation<D>::update_particles(double dt) {
 
 // MUSL's middle (eq. 22-23, then the re-map). Reads v and v_new of each particle's field;
 // writes the particles' velocity and position as update_particles does, the fields' momentum p
-// re-mapped from the new particle velocities, and v_remap = p / m. One coloured pass does the
+// re-mapped from the new particle velocities (under APIC their affine fields about x_p^n), and
+// v_remap = p / m. One coloured pass does the
 // gather and the scatter; the stress pass that follows reads the start-of-step weights.
 template <int D>
 void Simulation<D>::update_particles_and_remap(double dt) {

@@ -84,6 +84,18 @@ TEST(Fluid, CaseKeysAreReadAndBadOnesNamed) {
             std::string::npos);
   EXPECT_NE(error("sound_speed = 20.0\ntension = 1e9\n").find("material[0].tension"),
             std::string::npos);
+  // Not under APIC, whose affine velocities drive water into rigid walls (docs/formulation.md).
+  std::string apic = head + "sound_speed = 20.0\n";
+  apic.replace(apic.find("end_time = 1.0\n"), 15, "end_time = 1.0\napic = true\n");
+  try {
+    test::case_from(apic);
+    ADD_FAILURE() << "a fluid body under simulation.apic was accepted";
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("body[0].material: a fluid body cannot run under "
+                                         "simulation.apic"),
+              std::string::npos)
+        << e.what();
+  }
   // A surface gauge ([[gauge]]): its point in plan inside the grid, its body named.
   const std::string gauge = "sound_speed = 20.0\n[[gauge]]\nbody = \"water\"\n";
   EXPECT_EQ(test::case_from(head + gauge + "at = 0.5\n").gauges.at(0).at[0], 0.5);
