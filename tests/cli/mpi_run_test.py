@@ -9,7 +9,8 @@ reading its slab of the older checkpoint); a process killed with SIGKILL stops t
 and leaves its newest checkpoint readable, and a one-process restart from it ends identical; the
 3D volcano slide's hazard maps (GeoTIFFs) on 2 and 3 processes are the one-process run's, and a
 mapped particle too fast for the maps stops every process; a slide into water (a fluid body)
-on 3 processes is the one-process run;
+on 3 processes is the one-process run; an APIC run stopped on 2 processes and restarted on 3 is
+the one-process run;
 a grid too narrow for the processes is refused with a message naming its columns; a bad case's
 error is printed once, not once per process.
 
@@ -214,6 +215,30 @@ else:
     else:
         compare(d1, d, "fluid on 3 processes")
 
+# APIC (simulation.apic: each particle's affine velocity C through the exchange, the gathered
+# checkpoint and a slab's restart): the disk of general_rolling_apic node by node, stopped on 2
+# processes and restarted on 3, is the one-process run.
+apic_case = str(source / "cases/benchmarks/general_rolling_apic.toml")
+apic = [x for kv in ("grid.cell_size=0.1", 'contact.0.law="nodes"', "contact.0.friction=10.0",
+                     "simulation.gravity=[4.905, -8.49570921113]", "simulation.end_time=0.5",
+                     "output.every=0.1", "output.particles=true", "checkpoint.every=0.1",
+                     "checkpoint.wall_minutes=0") for x in ("--set", kv)]
+d1 = fresh("apic_one")
+rc, out = run([serial, "run", apic_case, "--out", str(d1), *apic], 1)
+if rc != 0:
+    failures.append(f"APIC on one process: exit {rc}: {out[-1500:]}")
+else:
+    d = fresh("apic_two_then_three")
+    rc, out = run([*mpi(2, 1), "run", apic_case, "--out", str(d), *apic, "--max-steps", "2000"], 1)
+    if rc != 0 or "stopped after 2000 steps" not in out:
+        failures.append(f"APIC stopped on 2 processes: exit {rc}: {out[-1500:]}")
+    else:
+        rc, out = run([*mpi(3, 1), "run", "--restart", str(d)], 1)
+        if rc != 0:
+            failures.append(f"APIC restarted on 3 processes: exit {rc}: {out[-1500:]}")
+        else:
+            compare(d1, d, "APIC stopped on 2 processes, restarted on 3")
+
 # A bad case: every process reads it and fails alike; the error is printed once.
 d = fresh("bad_case")
 rc, out = run([*mpi(3, 1), "run", str(case), "--out", str(d), "--set", "grid.cell_size=-1"], 1)
@@ -225,4 +250,5 @@ if failures:
     sys.exit(1)
 print("mpi run folders identical to the one-process run (2, 3, 4 processes x 1, 2 threads; "
       "2 -> 3 restart; killed process; blow-up reported as failed; hazard maps on 2 and 3 "
-      "processes, and stopped on all when a particle is too fast; fluid refused; narrow grid refused; bad case reported once)")
+      "processes, and stopped on all when a particle is too fast; a fluid body on 3 processes; APIC "
+      "stopped on 2 and restarted on 3; narrow grid refused; bad case reported once)")

@@ -231,7 +231,8 @@ inline const std::vector<GoldenCase>& golden_cases() {
        0xc55328afe233362full},
       // The 3D sphere on a rigid plane.
       {"sphere_3d", "cases/benchmarks/rolling_sphere.toml", {}, 0, 200, 0xbaec6138267914f4ull},
-      // APIC with quadratic B-splines: a disk rolling at its surface points (one process only).
+      // APIC with quadratic B-splines: a disk rolling at its surface points (one process only:
+      // the surface law).
       {"rolling_disk_apic",
        "cases/benchmarks/general_rolling_apic.toml",
        {"simulation.gravity=[4.905, -8.49570921113]", "contact.0.friction=10.0",
@@ -239,6 +240,14 @@ inline const std::vector<GoldenCase>& golden_cases() {
        0,
        200,
        0x9c5ef66b82ce7468ull},
+      // The same disk node by node: APIC's C through the processes' exchange and checkpoints.
+      {"rolling_disk_apic_node",
+       "cases/benchmarks/general_rolling_apic.toml",
+       {"simulation.gravity=[4.905, -8.49570921113]", "contact.0.friction=10.0",
+        "grid.cell_size=0.1", "contact.0.law=\"nodes\""},
+       0,
+       200,
+       0x6bfa28f96de0c414ull},
   };
   return cases;
 }

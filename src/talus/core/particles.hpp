@@ -2,7 +2,7 @@
 // index range [body_begin[b], body_begin[b+1]). Every per-particle array is listed in
 // for_each_array, so sorting, checkpoints and the processes' exchange see all state (no hidden
 // state); an optional array (for_each_optional: APIC's C) is empty or one entry a particle, and
-// sorting and checkpoints take it too.
+// sorting, checkpoints and the processes' exchange (Distributed::each_array) take it too.
 #pragma once
 
 #include "talus/core/math.hpp"
@@ -38,8 +38,8 @@ struct Particles {
   std::vector<std::int32_t> field;
   // Under APIC (simulation.apic) the particle's affine velocity C_p (its field's velocity
   // gradient at its last G2P); empty otherwise. Optional arrays are either empty or of size();
-  // sorting, checkpoints and the golden hashes take them (for_each_optional), the processes'
-  // exchange does not (APIC runs on one process).
+  // sorting, checkpoints, the golden hashes (for_each_optional) and the processes' exchange
+  // take them.
   std::vector<Mat<D>> C;
 
   std::vector<std::size_t> body_begin{0}; // size = bodies + 1

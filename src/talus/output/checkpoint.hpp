@@ -17,6 +17,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -74,9 +75,11 @@ public:
   void io(std::pair<A, B>& p) {
     io(p.first), io(p.second);
   }
-  // The body ranges, then every particle array (LoadArchive reads them with io()).
+  // The body ranges, then every particle array (LoadArchive reads them with io()). On several
+  // processes `optional_in_use` says whether the case uses the optional arrays (APIC's C): a
+  // process's share may be empty either way, and the gather is collective.
   template <int D>
-  void particles(Particles<D>& P) {
+  void particles(Particles<D>& P, bool optional_in_use = false) {
     if (!order_) {
       io(P.body_begin);
       P.for_each_array([&](auto& a) { io(a); });
@@ -84,10 +87,11 @@ public:
       return;
     }
     io(body_begin_);
-    P.for_each_array([&](auto& a) {
+    // One array of the whole state: its length, then its values in one process's order.
+    auto gathered = [&](auto& a, std::uint64_t n) {
       using T = typename std::decay_t<decltype(a)>::value_type;
-      std::uint64_t n = order_->total();
       io(n);
+      if (n == 0) return;
       if (mode_ == Mode::count) {
         counted_ += n * sizeof(T);
         return;
@@ -95,13 +99,9 @@ public:
       order_->gather(
           sizeof(T), [&](std::size_t p, char* out) { std::memcpy(out, &a[p], sizeof(T)); },
           [&](const char* data, std::size_t count) { raw(data, count * sizeof(T)); });
-    });
-    // Several processes run without the optional arrays (APIC runs on one).
-    P.for_each_optional([&](auto& a) {
-      std::uint64_t none = 0;
-      if (!a.empty()) throw CheckpointError("an optional particle array on several processes");
-      io(none);
-    });
+    };
+    P.for_each_array([&](auto& a) { gathered(a, order_->total()); });
+    P.for_each_optional([&](auto& a) { gathered(a, optional_in_use ? order_->total() : 0); });
   }
 
   std::string& bytes() { return buf_; }
@@ -176,44 +176,55 @@ public:
 
   // The particle arrays SaveArchive::particles wrote for the whole state's body ranges
   // `body_begin`: all of them, or the rows `choose` keeps (P's body ranges are then theirs).
+  // Returns whether the optional arrays (APIC's C) were stored: on several processes a slab
+  // may keep no rows, so P's own arrays cannot say.
   template <int D>
-  void particles(Particles<D>& P, const std::vector<std::size_t>& body_begin) {
+  bool particles(Particles<D>& P, const std::vector<std::size_t>& body_begin) {
     const std::size_t n = body_begin.back();
-    std::vector<std::size_t> at; // each array's first byte
+    constexpr std::size_t absent = std::numeric_limits<std::size_t>::max();
+    std::vector<std::size_t> at; // each array's first byte (absent: an optional one not stored)
+    // One array of n entries: read whole, or its place kept for the chosen rows.
+    auto take = [&](auto& a, std::uint64_t k) {
+      using T = typename std::decay_t<decltype(a)>::value_type;
+      at.push_back(k == 0 ? absent : pos_);
+      a.resize(choose_ ? 0 : k);
+      if (choose_)
+        pos_ += k * sizeof(T);
+      else
+        raw(a.data(), k * sizeof(T));
+    };
     P.for_each_array([&](auto& a) {
       using T = typename std::decay_t<decltype(a)>::value_type;
       if (count(sizeof(T)) != n)
         throw CheckpointError(source_ + ": corrupt checkpoint (particle array length)");
-      at.push_back(pos_);
-      a.resize(choose_ ? 0 : n);
-      if (choose_)
-        pos_ += n * sizeof(T);
-      else
-        raw(a.data(), n * sizeof(T));
+      take(a, n);
     });
+    bool optional_stored = false;
     P.for_each_optional([&](auto& a) { // empty, or one entry per particle
       using T = typename std::decay_t<decltype(a)>::value_type;
       const std::uint64_t k = count(sizeof(T));
       if (k != 0 && k != n)
         throw CheckpointError(source_ + ": corrupt checkpoint (particle array length)");
-      if (k != 0 && choose_)
-        throw CheckpointError(source_ + ": this checkpoint's APIC state restarts on one process");
-      a.resize(k);
-      raw(a.data(), k * sizeof(T));
+      optional_stored = optional_stored || k != 0;
+      take(a, k);
     });
     P.body_begin = body_begin;
-    if (!choose_) return;
+    if (!choose_) return optional_stored;
     // The positions are the first array (Particles::arrays).
     const std::vector<std::uint32_t> rows =
         choose_(n, [&](const Chunk& f) { scan(at[0], sizeof(Vec<D>), n, f); });
     std::size_t k = 0;
-    P.for_each_array([&](auto& a) {
+    auto read_chosen = [&](auto& a) {
       using T = typename std::decay_t<decltype(a)>::value_type;
+      if (at[k] == absent) return void(++k);
       a.resize(rows.size());
       read_rows(at[k++], sizeof(T), rows, reinterpret_cast<char*>(a.data()));
-    });
+    };
+    P.for_each_array(read_chosen);
+    P.for_each_optional(read_chosen);
     for (std::size_t& b : P.body_begin)
       b = static_cast<std::size_t>(std::lower_bound(rows.begin(), rows.end(), b) - rows.begin());
+    return optional_stored;
   }
 
 private:

@@ -23,8 +23,7 @@ void serialize_state(Ar& ar, Simulation<D>& sim, const std::string& source) {
     // this process's slab (LoadArchive::set_choose).
     const std::vector<std::size_t> whole = sim.case_body_begin();
     io_expect(ar, whole, "bodies and particle counts", source);
-    ar.particles(sim.particles_, whole);
-    if (sim.setup().apic != !sim.particles_.C.empty())
+    if (ar.particles(sim.particles_, whole) != sim.setup().apic)
       throw CheckpointError(source + (sim.setup().apic
                                           ? ": corrupt checkpoint (its case sets simulation.apic, "
                                             "but it holds no affine velocities)"
@@ -41,7 +40,8 @@ void serialize_state(Ar& ar, Simulation<D>& sim, const std::string& source) {
       sim.index_of_id_[id] = static_cast<std::uint32_t>(p);
     }
   } else {
-    ar.particles(sim.particles_); // on several processes, the whole state's, gathered
+    // On several processes the whole state's, gathered.
+    ar.particles(sim.particles_, sim.setup().apic);
   }
   ar.io(sim.time_), ar.io(sim.dt_), ar.io(sim.dt_reference_), ar.io(sim.steps_),
       ar.io(sim.settling_);

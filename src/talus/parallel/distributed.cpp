@@ -22,11 +22,6 @@ namespace {
 template <class T>
 using element_t = typename std::decay_t<T>::value_type;
 
-template <int D>
-void clear_arrays(Particles<D>& P) {
-  P.for_each_array([](auto& a) { a.clear(); });
-}
-
 } // namespace
 
 template <int D>
@@ -37,16 +32,13 @@ void Distributed<D>::init() {
   if (size_ > 1 && !sim_.setup().surface_pairs.empty())
     throw DecompositionError("[[contact]] law = \"surface\" runs on one process for now: run "
                              "this case without mpirun (threads share its work)");
-  // The shares are rebuilt from Particles::arrays(), which leave APIC's C out.
-  if (sim_.setup().apic)
-    throw DecompositionError("simulation.apic runs on one process for now: run this case "
-                             "without mpirun (threads share its work)");
+  affine_ = sim_.setup().apic;
   const Grid<D>& G = sim_.grid();
   for (int d = 1; d < D; ++d)
     cells_per_column_ *= G.cells[d];
   ghost_width_ = ghost_columns(sim_.setup().normal_smoothing, sim_.setup().xpic);
   record_bytes_ = sizeof(std::uint32_t);
-  own_.for_each_array([&](auto& a) { record_bytes_ += sizeof(element_t<decltype(a)>); });
+  each_array(own_, [&](auto& a) { record_bytes_ += sizeof(element_t<decltype(a)>); });
   // The pore pool's entries, in offset order: each runs to the next one.
   const auto& entries = sim_.pore_pool().entries;
   pool_size_.assign(sim_.pore_pool().data.size(), 0);
@@ -76,7 +68,7 @@ Distributed<D>::Distributed(Simulation<D>& sim, MPI_Comm comm, std::int64_t reba
   for (std::size_t p = 0; p < all.size(); ++p)
     if (slab_owner(bounds_, owner_column(all.x[p])) == rank_)
       mine.push_back(static_cast<std::uint32_t>(p));
-  Particles<D>::for_each_array_pair(own_, all, [&](auto& o, auto& a) {
+  each_array_pair(own_, all, [&](auto& o, auto& a) {
     o.resize(mine.size());
     for (std::size_t i = 0; i < mine.size(); ++i)
       o[i] = a[mine[i]];
@@ -143,7 +135,7 @@ void Distributed<D>::pack(Particles<D>& P, std::size_t p, std::uint32_t g, std::
     std::memcpy(buf.data() + at, data, n);
   };
   put(&g, sizeof g);
-  P.for_each_array([&](auto& a) { put(&a[p], sizeof(element_t<decltype(a)>)); });
+  each_array(P, [&](auto& a) { put(&a[p], sizeof(element_t<decltype(a)>)); });
   if (const std::int64_t o = P.pore[p]; o >= 0)
     put(sim_.pore_pool().data.data() + o, pool_size_[o] * sizeof(double));
 }
@@ -155,7 +147,7 @@ std::size_t Distributed<D>::unpack(const std::vector<char>& buf, std::size_t pos
   std::memcpy(&g, buf.data() + pos, sizeof g);
   pos += sizeof g;
   index.push_back(g);
-  P.for_each_array([&](auto& a) {
+  each_array(P, [&](auto& a) {
     a.emplace_back();
     std::memcpy(static_cast<void*>(&a.back()), buf.data() + pos, sizeof(element_t<decltype(a)>));
     pos += sizeof(element_t<decltype(a)>);
@@ -173,7 +165,7 @@ std::size_t Distributed<D>::unpack_in_place(const std::vector<char>& buf, std::s
   std::uint32_t g;
   std::memcpy(&g, buf.data() + pos, sizeof g);
   pos += sizeof g;
-  P.for_each_array([&](auto& a) {
+  each_array(P, [&](auto& a) {
     std::memcpy(static_cast<void*>(&a[g]), buf.data() + pos, sizeof(element_t<decltype(a)>));
     pos += sizeof(element_t<decltype(a)>);
   });
@@ -229,7 +221,8 @@ void Distributed<D>::build_share() {
   std::iota(rows.begin(), rows.end(), 0u);
   send_ghosts(own_, rows, own_index_);
   merge_share(own_, rows, own_index_);
-  clear_arrays(own_); // the share holds them now (collect_own takes them back)
+  each_array(own_,
+             [](auto& a) { a.clear(); }); // the share holds them now (collect_own takes them back)
 }
 
 // The share anew: rows `rows` of `own` (global indices `index`, ascending) and the ghosts
@@ -257,12 +250,12 @@ void Distributed<D>::merge_share(Particles<D>& own, const std::vector<std::uint3
     }
   }
   Particles<D> share = std::move(spare_); // the last share's arrays: no new allocation
-  Particles<D>::for_each_array_pair(share, own, [&](auto& s, auto& o) {
+  each_array_pair(share, own, [&](auto& s, auto& o) {
     s.resize(n);
     for (std::size_t k = 0; k < n; ++k)
       if (from[k] < n_own) s[k] = o[rows[from[k]]];
   });
-  Particles<D>::for_each_array_pair(share, ghost_, [&](auto& s, auto& g) {
+  each_array_pair(share, ghost_, [&](auto& s, auto& g) {
     for (std::size_t k = 0; k < n; ++k)
       if (from[k] >= n_own) s[k] = g[from[k] - n_own];
   });
@@ -316,7 +309,9 @@ void Distributed<D>::send_ghosts(Particles<D>& P, const std::vector<std::uint32_
   double sent = 0;
   const std::vector<char>& in = all_to_all(out, sent);
   ghost_bytes_ += sent - migrating, migration_bytes_ += migrating;
-  clear_arrays(ghost_); // reused: its arrays keep their capacity from step to step
+  each_array(ghost_, [](auto& a) {
+    a.clear();
+  }); // reused: its arrays keep their capacity from step to step
   ghost_.body_begin = body_begin_;
   ghost_index_.clear();
   for (std::size_t pos = 0; pos < in.size();)
@@ -368,7 +363,7 @@ void Distributed<D>::refresh_share() {
     spare_ = std::move(last);
     return;
   }
-  Particles<D>::for_each_array_pair(S, ghost_, [&](auto& s, auto& g) {
+  each_array_pair(S, ghost_, [&](auto& s, auto& g) {
     for (std::size_t j = 0; j < g_order.size(); ++j)
       s[ghost_slots[j]] = g[g_order[j]];
   });
@@ -382,7 +377,7 @@ void Distributed<D>::collect_own() {
   std::vector<std::uint32_t> keep;
   for (std::size_t k = 0; k < share_own_.size(); ++k)
     if (share_own_[k]) keep.push_back(static_cast<std::uint32_t>(k));
-  Particles<D>::for_each_array_pair(own_, share, [&](auto& o, auto& s) {
+  each_array_pair(own_, share, [&](auto& o, auto& s) {
     o.resize(keep.size());
     for (std::size_t i = 0; i < keep.size(); ++i)
       o[i] = s[keep[i]];
@@ -428,12 +423,12 @@ void Distributed<D>::migrate() {
     }
   }
   Particles<D> merged;
-  Particles<D>::for_each_array_pair(merged, own_, [&](auto& m, auto& o) {
+  each_array_pair(merged, own_, [&](auto& m, auto& o) {
     m.resize(n);
     for (std::size_t k = 0; k < n; ++k)
       if (from[k] < n_stay) m[k] = o[stay[from[k]]];
   });
-  Particles<D>::for_each_array_pair(merged, arrived, [&](auto& m, auto& a) {
+  each_array_pair(merged, arrived, [&](auto& m, auto& a) {
     for (std::size_t k = 0; k < n; ++k)
       if (from[k] >= n_stay) m[k] = a[from[k] - n_stay];
   });

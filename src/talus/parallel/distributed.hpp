@@ -148,6 +148,19 @@ private:
   // body_begin of particles sorted by global index.
   std::vector<std::size_t> body_begin_of(const std::vector<std::uint32_t>& index) const;
   [[noreturn]] void abort_run(const std::exception& e) const;
+  // f(array) for every array a particle's record carries: Particles::arrays(), and APIC's C
+  // where the case runs APIC (an optional array, empty otherwise).
+  template <class Fn>
+  void each_array(Particles<D>& P, Fn&& f) const {
+    P.for_each_array(f);
+    if (affine_) f(P.C);
+  }
+  // f(a's array, b's array) for each of those arrays.
+  template <class Fn>
+  void each_array_pair(Particles<D>& a, Particles<D>& b, Fn&& f) const {
+    Particles<D>::for_each_array_pair(a, b, f);
+    if (affine_) f(a.C, b.C);
+  }
 
   Simulation<D>& sim_;
   ParticleStore<D> store_{sim_}; // the share's door into sim_ (solver/particle_store.hpp)
@@ -175,6 +188,7 @@ private:
   bool fields_stand_ = true;  // the next share holds the same fixed-body particles as the last
   std::vector<std::uint32_t> pool_size_; // per pore-pool offset: its entry's length (0: none)
   std::size_t record_bytes_ = 0;
+  bool affine_ = false; // the particles carry APIC's C (simulation.apic)
   std::size_t ghosts_ = 0, own_count_ = 0;
   std::int64_t rebuilds_ = 0;
   std::int64_t rebalances_ = 0;

@@ -176,7 +176,7 @@ void Distributed<D>::gather_to_root() {
     if (share_own_[k]) pack(share, k, share_index_[k], buf);
   // Rank 0 writes each process's records into their slots of the whole state as they arrive.
   Particles<D> staged;
-  if (rank_ == 0) staged.for_each_array([&](auto& a) { a.resize(body_begin_.back()); });
+  if (rank_ == 0) each_array(staged, [&](auto& a) { a.resize(body_begin_.back()); });
   gather_in_pieces(comm_, buf, [&](const std::vector<char>& records) {
     for (std::size_t pos = 0; pos < records.size();)
       pos = unpack_in_place(records, pos, staged);

@@ -107,10 +107,6 @@ private:
 template <int D>
 std::unique_ptr<Stepper<D>> make_stepper(const Case& c, bool restoring) {
 #ifdef TALUS_MPI
-  // APIC's affine velocities are not in the processes' exchange (Particles::for_each_optional).
-  if (process_count() > 1 && c.simulation.apic)
-    throw DecompositionError("simulation.apic runs on one process for now: run this case "
-                             "without mpirun (threads share its work)");
   if (process_count() > 1) return std::make_unique<SharedStepper<D>>(c, restoring);
 #endif
   (void)restoring;
