@@ -278,7 +278,8 @@ void Simulation<D>::apply_node_contact(std::vector<Vec<D>> BodyField<D>::*veloci
     first = std::clamp<std::int64_t>(reach_lo - lo[0], 0, rows);
     last = std::clamp<std::int64_t>(reach_hi - lo[0], first, rows);
   }
-#pragma omp parallel for schedule(dynamic, 4)
+  // Static: each thread takes the stretch of x whose nodes its scatter wrote (scatter.hpp).
+#pragma omp parallel for schedule(static)
   for (std::int64_t r = first; r < last; ++r) {
     Index<D> g = lo;
     g[0] = lo[0] + r;
