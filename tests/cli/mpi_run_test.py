@@ -203,11 +203,20 @@ if rc != 2 or "cell columns" not in out:
 fluid = ["--set", "grid.cell_size=0.05", "--set", "simulation.end_time=0.8", "--set",
          "output.every=0.2"]
 fluid_case = str(source / "cases/examples/slide_into_tank.toml")
-d1 = fresh("fluid_one")
-rc, out = run([serial, "run", fluid_case, "--out", str(d1), *fluid], 2)
-if rc != 0:
-    failures.append(f"fluid on one process: exit {rc}: {out[-1500:]}")
-else:
+
+
+def reference(name, case_file, settings, threads):
+    """The one-process run folder to compare with, or None (its failure recorded)."""
+    d1 = fresh(name)
+    rc, out = run([serial, "run", case_file, "--out", str(d1), *settings], threads)
+    if rc != 0:
+        failures.append(f"{name}: the one-process run: exit {rc}: {out[-1500:]}")
+        return None
+    return d1
+
+
+d1 = reference("fluid_one", fluid_case, fluid, 2)
+if d1:
     d = fresh("fluid_three")
     rc, out = run([*mpi(3, 1), "run", fluid_case, "--out", str(d), *fluid], 1)
     if rc != 0:
@@ -223,11 +232,8 @@ apic = [x for kv in ("grid.cell_size=0.1", 'contact.0.law="nodes"', "contact.0.f
                      "simulation.gravity=[4.905, -8.49570921113]", "simulation.end_time=0.5",
                      "output.every=0.1", "output.particles=true", "checkpoint.every=0.1",
                      "checkpoint.wall_minutes=0") for x in ("--set", kv)]
-d1 = fresh("apic_one")
-rc, out = run([serial, "run", apic_case, "--out", str(d1), *apic], 1)
-if rc != 0:
-    failures.append(f"APIC on one process: exit {rc}: {out[-1500:]}")
-else:
+d1 = reference("apic_one", apic_case, apic, 1)
+if d1:
     d = fresh("apic_two_then_three")
     rc, out = run([*mpi(2, 1), "run", apic_case, "--out", str(d), *apic, "--max-steps", "2000"], 1)
     if rc != 0 or "stopped after 2000 steps" not in out:
