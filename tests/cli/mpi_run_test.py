@@ -226,7 +226,8 @@ if d1:
 
 # APIC (simulation.apic: each particle's affine velocity C through the exchange, the gathered
 # checkpoint and a slab's restart): the disk of general_rolling_apic node by node, stopped on 2
-# processes and restarted on 3, is the one-process run.
+# processes after 2000 of its 3262 steps (past three checkpoints, each gathered) and restarted
+# on 3 from the checkpoint the stop wrote, is the one-process run.
 apic_case = str(source / "cases/benchmarks/general_rolling_apic.toml")
 apic = [x for kv in ("grid.cell_size=0.1", 'contact.0.law="nodes"', "contact.0.friction=10.0",
                      "simulation.gravity=[4.905, -8.49570921113]", "simulation.end_time=0.5",

@@ -75,11 +75,11 @@ public:
   void io(std::pair<A, B>& p) {
     io(p.first), io(p.second);
   }
-  // The body ranges, then every particle array (LoadArchive reads them with io()). On several
-  // processes `optional_in_use` says whether the case uses the optional arrays (APIC's C): a
-  // process's share may be empty either way, and the gather is collective.
+  // The body ranges, then every particle array (LoadArchive reads them with io()).
+  // `optional_in_use` says whether the case uses the optional arrays (APIC's C): on several
+  // processes a share may be empty either way, and the gather is collective.
   template <int D>
-  void particles(Particles<D>& P, bool optional_in_use = false) {
+  void particles(Particles<D>& P, bool optional_in_use) {
     if (!order_) {
       io(P.body_begin);
       P.for_each_array([&](auto& a) { io(a); });
@@ -101,7 +101,11 @@ public:
           [&](const char* data, std::size_t count) { raw(data, count * sizeof(T)); });
     };
     P.for_each_array([&](auto& a) { gathered(a, order_->total()); });
-    P.for_each_optional([&](auto& a) { gathered(a, optional_in_use ? order_->total() : 0); });
+    P.for_each_optional([&](auto& a) {
+      if (!optional_in_use && !a.empty())
+        throw CheckpointError("an optional particle array the case does not use");
+      gathered(a, optional_in_use ? order_->total() : 0);
+    });
   }
 
   std::string& bytes() { return buf_; }
@@ -183,10 +187,10 @@ public:
     const std::size_t n = body_begin.back();
     constexpr std::size_t absent = std::numeric_limits<std::size_t>::max();
     std::vector<std::size_t> at; // each array's first byte (absent: an optional one not stored)
-    // One array of n entries: read whole, or its place kept for the chosen rows.
-    auto take = [&](auto& a, std::uint64_t k) {
+    // One array of k entries: read whole, or its place kept for the chosen rows.
+    auto take = [&](auto& a, std::uint64_t k, bool optional) {
       using T = typename std::decay_t<decltype(a)>::value_type;
-      at.push_back(k == 0 ? absent : pos_);
+      at.push_back(optional && k == 0 ? absent : pos_);
       a.resize(choose_ ? 0 : k);
       if (choose_)
         pos_ += k * sizeof(T);
@@ -197,7 +201,7 @@ public:
       using T = typename std::decay_t<decltype(a)>::value_type;
       if (count(sizeof(T)) != n)
         throw CheckpointError(source_ + ": corrupt checkpoint (particle array length)");
-      take(a, n);
+      take(a, n, false);
     });
     bool optional_stored = false;
     P.for_each_optional([&](auto& a) { // empty, or one entry per particle
@@ -206,7 +210,7 @@ public:
       if (k != 0 && k != n)
         throw CheckpointError(source_ + ": corrupt checkpoint (particle array length)");
       optional_stored = optional_stored || k != 0;
-      take(a, k);
+      take(a, k, true);
     });
     P.body_begin = body_begin;
     if (!choose_) return optional_stored;

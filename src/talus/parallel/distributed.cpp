@@ -221,8 +221,8 @@ void Distributed<D>::build_share() {
   std::iota(rows.begin(), rows.end(), 0u);
   send_ghosts(own_, rows, own_index_);
   merge_share(own_, rows, own_index_);
-  each_array(own_,
-             [](auto& a) { a.clear(); }); // the share holds them now (collect_own takes them back)
+  // The share holds them now (collect_own takes them back).
+  each_array(own_, [](auto& a) { a.clear(); });
 }
 
 // The share anew: rows `rows` of `own` (global indices `index`, ascending) and the ghosts
@@ -309,9 +309,8 @@ void Distributed<D>::send_ghosts(Particles<D>& P, const std::vector<std::uint32_
   double sent = 0;
   const std::vector<char>& in = all_to_all(out, sent);
   ghost_bytes_ += sent - migrating, migration_bytes_ += migrating;
-  each_array(ghost_, [](auto& a) {
-    a.clear();
-  }); // reused: its arrays keep their capacity from step to step
+  // Reused: its arrays keep their capacity from step to step.
+  each_array(ghost_, [](auto& a) { a.clear(); });
   ghost_.body_begin = body_begin_;
   ghost_index_.clear();
   for (std::size_t pos = 0; pos < in.size();)

@@ -278,7 +278,8 @@ void Simulation<D>::apply_node_contact(std::vector<Vec<D>> BodyField<D>::*veloci
     first = std::clamp<std::int64_t>(reach_lo - lo[0], 0, rows);
     last = std::clamp<std::int64_t>(reach_hi - lo[0], first, rows);
   }
-  // Static: each thread takes the stretch of x whose nodes its scatter wrote (scatter.hpp).
+  // Static: each thread takes the same planes every step, about the stretch of x its scatter
+  // wrote (scatter.hpp); the sums are per plane, then the planes in order.
 #pragma omp parallel for schedule(static)
   for (std::int64_t r = first; r < last; ++r) {
     Index<D> g = lo;

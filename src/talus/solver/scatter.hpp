@@ -4,7 +4,9 @@
 
 #include "talus/solver/simulation.hpp"
 
+#ifdef _OPENMP
 #include <omp.h>
+#endif
 
 namespace talus {
 
@@ -26,8 +28,12 @@ void Simulation<D>::scatter(F&& f) {
       total += offset[(s + 1) * B] - offset[s * B];
 #pragma omp parallel
     {
+#ifdef _OPENMP
       const std::size_t T = static_cast<std::size_t>(omp_get_num_threads());
       const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+#else
+      const std::size_t T = 1, t = 0;
+#endif
       // Slab s goes to the thread whose share of the colour's particles holds its middle.
       std::size_t before = 0;
       for (std::int64_t s = colour; s < S; s += 2) {

@@ -57,11 +57,13 @@ void Simulation<D>::update_body_stress(int b, std::vector<Vec<D>> BodyField<D>::
   // On several processes the chunks are of global indices: each particle's work goes to the
   // exchange, which forms the chunk sums one process would.
   double* particle_work = nullptr;
-  if (exchange_)
-    work_sums_.particle_work.resize(P.size()), particle_work = work_sums_.particle_work.data();
-    // The chunks go out statically: each thread takes the same stretch of the particle order
-    // every step, the one G2P and the scatter give it, so the particles' state stays in that
-    // core's cache (handed out dynamically, each step's stretch came from the other core's).
+  if (exchange_) {
+    work_sums_.particle_work.resize(P.size());
+    particle_work = work_sums_.particle_work.data();
+  }
+  // The chunks go out statically: each thread takes the same stretch of the particle order
+  // every step, the one G2P and the scatter give it, so the particles' state stays in that
+  // core's cache (handed out dynamically, each step's stretch came from the other core's).
 #pragma omp parallel for schedule(static)
   for (std::int64_t c = 0; c < chunks; ++c) {
     double work = 0.0;

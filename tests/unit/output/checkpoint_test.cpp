@@ -57,7 +57,9 @@ TEST(Checkpoint, ATruncatedOrChangedFileIsRefused) {
 // Particles of two bodies whose every array holds values of its row, saved as a checkpoint's
 // particles; read back from the file whole, and as one process's share: the rows the chooser
 // keeps, read in spans small enough that gaps are skipped and spans split.
-TEST(Checkpoint, AShareOfTheParticlesIsReadFromTheFile) {
+// With `affine`, the particles carry APIC's C (an optional array), which is read whole or by
+// the chosen rows as the others are; without, it stays empty.
+void share_is_read(bool affine) {
   constexpr std::size_t n = 5000;
   Particles<2> P;
   for (std::size_t p = 0; p < n; ++p) {
@@ -69,11 +71,17 @@ TEST(Checkpoint, AShareOfTheParticlesIsReadFromTheFile) {
     P.stress.back().fill(static_cast<double>(p));
   }
   P.body_begin.push_back(n);
+  if (affine) {
+    P.C.resize(n);
+    for (std::size_t p = 0; p < n; ++p)
+      P.C[p] << 1.0, -static_cast<double>(p), 0.5 * static_cast<double>(p), 3.0;
+  }
   const std::vector<std::size_t> whole = P.body_begin;
   SaveArchive out;
   double tail = 7.5;
-  out.particles(P), out.io(tail);
-  const std::string path = test::temp_dir("checkpoint_share") + "/c.ckpt";
+  out.particles(P, affine), out.io(tail);
+  const std::string path =
+      test::temp_dir(affine ? "checkpoint_share_affine" : "checkpoint_share") + "/c.ckpt";
   write_checkpoint_file(path, out.bytes());
 
   auto expect_rows = [&](const Particles<2>& got, const std::vector<std::uint32_t>& rows) {
@@ -86,7 +94,11 @@ TEST(Checkpoint, AShareOfTheParticlesIsReadFromTheFile) {
       EXPECT_EQ(got.eps_p[i], P.eps_p[r]);
       EXPECT_EQ(got.id[i], P.id[r]);
       EXPECT_EQ(got.stress[i], P.stress[r]);
+      if (affine) {
+        EXPECT_EQ(got.C[i], P.C[r]);
+      }
     }
+    EXPECT_EQ(got.C.size(), affine ? rows.size() : 0);
   };
   // The body ranges, the particles, then the value after them, to the end.
   auto read = [&](LoadArchive& in) {
@@ -94,7 +106,7 @@ TEST(Checkpoint, AShareOfTheParticlesIsReadFromTheFile) {
     in.io(begin);
     EXPECT_EQ(begin, whole);
     Particles<2> got;
-    in.particles(got, whole);
+    EXPECT_EQ(in.particles(got, whole), affine) << "whether the optional arrays were stored";
     double t = 0;
     in.io(t);
     EXPECT_TRUE(in.done());
@@ -139,6 +151,14 @@ TEST(Checkpoint, AShareOfTheParticlesIsReadFromTheFile) {
       static_cast<std::size_t>(std::lower_bound(rows.begin(), rows.end(), 3000u) - rows.begin());
   EXPECT_EQ(got.body_begin, (std::vector<std::size_t>{0, first_of_body1, rows.size()}));
   expect_rows(got, rows);
+}
+
+TEST(Checkpoint, AShareOfTheParticlesIsReadFromTheFile) {
+  share_is_read(false);
+}
+
+TEST(Checkpoint, AShareOfTheParticlesIsReadFromTheFileWithApicsAffineVelocities) {
+  share_is_read(true);
 }
 
 } // namespace
